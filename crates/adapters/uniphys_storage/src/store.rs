@@ -1,0 +1,118 @@
+use std::path::Path;
+use std::sync::Arc;
+
+use futures::StreamExt;
+use object_store::local::LocalFileSystem;
+use object_store::memory::InMemory;
+use object_store::path::Path as StorePath;
+use object_store::{ObjectStore, ObjectStoreExt, PutPayload};
+
+use crate::key::validate_key;
+use crate::{StorageError, StorageResult};
+
+/// A store of artifacts addressed by `/`-separated keys.
+#[derive(Debug, Clone)]
+pub struct ArtifactStore {
+    store: Arc<dyn ObjectStore>,
+}
+
+impl ArtifactStore {
+    /// A store in a local directory, created if missing.
+    pub fn local(dir: &Path) -> StorageResult<Self> {
+        std::fs::create_dir_all(dir).map_err(|source| StorageError::CreateDir {
+            path: dir.display().to_string(),
+            source,
+        })?;
+        let fs = LocalFileSystem::new_with_prefix(dir).map_err(|source| StorageError::Store {
+            key: dir.display().to_string(),
+            source,
+        })?;
+        Ok(Self {
+            store: Arc::new(fs),
+        })
+    }
+
+    /// A store in memory (tests, dry runs).
+    #[must_use]
+    pub fn in_memory() -> Self {
+        Self {
+            store: Arc::new(InMemory::new()),
+        }
+    }
+
+    /// A store over any `object_store` implementation (S3-compatible stores in production).
+    #[must_use]
+    pub fn from_object_store(store: Arc<dyn ObjectStore>) -> Self {
+        Self { store }
+    }
+
+    /// Writes `bytes` at `key`, replacing what was there.
+    pub async fn put(&self, key: &str, bytes: Vec<u8>) -> StorageResult<()> {
+        validate_key(key)?;
+        self.store
+            .put(&StorePath::from(key), PutPayload::from(bytes))
+            .await
+            .map(|_| ())
+            .map_err(|source| StorageError::Store {
+                key: key.to_owned(),
+                source,
+            })
+    }
+
+    /// Reads the object at `key`.
+    pub async fn get(&self, key: &str) -> StorageResult<Vec<u8>> {
+        validate_key(key)?;
+        let map = |source| StorageError::Store {
+            key: key.to_owned(),
+            source,
+        };
+        let result = self.store.get(&StorePath::from(key)).await.map_err(map)?;
+        Ok(result.bytes().await.map_err(map)?.to_vec())
+    }
+
+    /// Keys under `prefix`, sorted.
+    pub async fn list(&self, prefix: &str) -> StorageResult<Vec<String>> {
+        let map = |source| StorageError::Store {
+            key: prefix.to_owned(),
+            source,
+        };
+        let path = StorePath::from(prefix);
+        let mut stream = self.store.list(Some(&path));
+        let mut keys = Vec::new();
+        while let Some(meta) = stream.next().await {
+            keys.push(meta.map_err(map)?.location.to_string());
+        }
+        keys.sort();
+        Ok(keys)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test]
+    async fn local_store_writes_idempotently_and_lists_sorted() {
+        let dir = tempfile::tempdir().unwrap();
+        let store = ArtifactStore::local(&dir.path().join("out")).unwrap();
+        store
+            .put("a/meshes/x.obj", b"v 0 0 0\n".to_vec())
+            .await
+            .unwrap();
+        store
+            .put("a/model.urdf", b"<robot/>".to_vec())
+            .await
+            .unwrap();
+        store
+            .put("a/model.urdf", b"<robot/>".to_vec())
+            .await
+            .unwrap();
+        assert_eq!(store.get("a/model.urdf").await.unwrap(), b"<robot/>");
+        assert_eq!(
+            store.list("a").await.unwrap(),
+            ["a/meshes/x.obj", "a/model.urdf"]
+        );
+        assert!(dir.path().join("out/a/meshes/x.obj").is_file());
+        assert!(store.put("../escape", vec![]).await.is_err());
+    }
+}

@@ -1,0 +1,119 @@
+//! Simulation-ready export of an annotated asset, as in-memory artifacts (the caller stores them):
+//!
+//! | path | what |
+//! |---|---|
+//! | `model.urdf` | URDF for PyBullet, MuJoCo's importer, Isaac Sim, SAPIEN |
+//! | `model.xml` | MJCF for MuJoCo |
+//! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame |
+//! | `meshes/part_<id>_collision_<k>.obj` | convex collision hulls, in the link frame |
+//! | `parts/part_<id>.obj` (+ `.mtl`) | part meshes in the object frame (UniPhys-40K layout) |
+//! | `annotations/object.json`, `annotations/part_<id>.json`, `meta_data.json` | UniPhys-40K record |
+//! | `record.json` | the full [`AssetRecord`] with provenance, SI units |
+//! | `report.json` | provenance of every value, checks, notes |
+//!
+//! Every link frame has the object's axes; its origin is the object origin for the root, the joint
+//! pivot for a jointed part and the centre of mass for a part fixed to another.
+
+mod artifact;
+mod checks;
+mod error;
+mod mjcf;
+mod model;
+mod obj_writer;
+mod record;
+mod report;
+mod urdf;
+mod xml;
+
+pub use artifact::Artifact;
+pub use error::{ExportError, ExportResult};
+pub use record::RECORD_TYPE_NAME;
+
+use uniphys_geometry::{DVec3, TriMesh};
+use uniphys_types::{AssetRecord, CheckOutcome, PartId, VerificationReport};
+
+/// Directory of the link meshes, relative to the model files.
+pub const MESH_DIR: &str = "meshes";
+
+/// Everything the export needs.
+#[derive(Debug, Clone, Copy)]
+pub struct ExportInput<'a> {
+    /// The annotated asset.
+    pub record: &'a AssetRecord,
+    /// Visual mesh of each part (object frame), in the order of `record.parts`.
+    pub part_meshes: &'a [TriMesh],
+    /// Convex collision hulls of each part (object frame), in the order of `record.parts`.
+    pub colliders: &'a [Vec<TriMesh>],
+    /// Display colour of each part, linear RGBA.
+    pub part_colors: &'a [[f32; 4]],
+    /// Pairs of parts that touch at rest; those not joined directly get MJCF contact excludes.
+    pub touching_pairs: &'a [(PartId, PartId)],
+    /// Checks from earlier stages, included in `report.json`.
+    pub report: &'a VerificationReport,
+    /// Notes from earlier stages (what was assumed or completed).
+    pub notes: &'a [String],
+}
+
+/// What the export produced: the files and the checks it ran.
+#[derive(Debug, Clone)]
+pub struct ExportOutput {
+    /// Files, sorted by path.
+    pub artifacts: Vec<Artifact>,
+    /// The report written to `report.json` (earlier sections plus `intrinsic` and `export`).
+    pub report: VerificationReport,
+}
+
+/// Exports an annotated asset.
+pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
+    let model = model::Model::build(input)?;
+    let record = input.record;
+    let mut artifacts = vec![
+        Artifact::new("model.urdf", urdf::write_urdf(&model).into_bytes()),
+        Artifact::new("model.xml", mjcf::write_mjcf(&model).into_bytes()),
+    ];
+    for (i, link) in model.links.iter().enumerate() {
+        artifacts.push(Artifact::new(
+            format!("{MESH_DIR}/{}.obj", link.visual_stem),
+            obj_writer::write_obj(&input.part_meshes[i], link.anchor, None),
+        ));
+        for (hull, stem) in input.colliders[i].iter().zip(&link.collision_stems) {
+            artifacts.push(Artifact::new(
+                format!("{MESH_DIR}/{stem}.obj"),
+                obj_writer::write_obj(hull, link.anchor, None),
+            ));
+        }
+        let id = link.id;
+        let material = format!("{id}_material");
+        artifacts.push(Artifact::new(
+            format!("parts/{id}.obj"),
+            obj_writer::write_obj(
+                &input.part_meshes[i],
+                DVec3::ZERO,
+                Some((&format!("{id}.mtl"), &material)),
+            ),
+        ));
+        artifacts.push(Artifact::new(
+            format!("parts/{id}.mtl"),
+            obj_writer::write_mtl(&material, link.rgba),
+        ));
+    }
+    let mut report = input.report.clone();
+    let intrinsic = checks::intrinsic_checks(record);
+    let part_passed = |id: PartId| {
+        let subject = id.to_string();
+        intrinsic
+            .checks
+            .iter()
+            .filter(|c| c.subject == subject)
+            .all(|c| c.outcome != CheckOutcome::Fail)
+    };
+    artifacts.extend(record::record_artifacts(record, &part_passed)?);
+    report.sections.push(intrinsic.clone());
+    report
+        .sections
+        .push(checks::export_checks(record, input.colliders));
+    artifacts.push(Artifact::json("record.json", record)?);
+    artifacts.push(report::report_artifact(record, &report, input.notes)?);
+    artifacts.sort_by(|a, b| a.path.cmp(&b.path));
+    Ok(ExportOutput { artifacts, report })
+}

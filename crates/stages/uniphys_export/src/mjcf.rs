@@ -1,0 +1,163 @@
+//! MJCF output (simulation-readiness checklist 2.2): radians, `meshdir`, default classes that
+//! separate visual geoms (no contacts, group 2) from convex collision geoms (group 3), explicit
+//! `fullinertia` per body, joint damping, friction loss and armature, contact excludes for
+//! touching bodies that are not parent and child, and a root body fixed to the world.
+
+use uniphys_types::{Joint, JointKind};
+
+use crate::MESH_DIR;
+use crate::model::{Link, Model};
+use crate::xml::{Element, num, nums};
+
+/// Armature as seconds times damping: reflected inertia of 10 % of the damping time constant,
+/// which stabilises light joints at the 2 ms time step.
+const ARMATURE_SECS: f64 = 0.1;
+
+pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
+    let mut root = Element::new("mujoco").attr("model", model.name.clone());
+    root.push(
+        Element::new("compiler")
+            .attr("angle", "radian")
+            .attr("meshdir", MESH_DIR)
+            .attr("autolimits", "true"),
+    );
+    root.push(
+        Element::new("option")
+            .attr("timestep", "0.002")
+            .attr("gravity", "0 0 -9.81")
+            .attr("integrator", "implicitfast"),
+    );
+    // Class names carry the model name so several assets can share one scene.
+    root.push(
+        Element::new("default")
+            .child(
+                Element::new("default")
+                    .attr("class", format!("{}_visual", model.name))
+                    .child(
+                        Element::new("geom")
+                            .attr("type", "mesh")
+                            .attr("contype", "0")
+                            .attr("conaffinity", "0")
+                            .attr("group", "2")
+                            .attr("density", "0"),
+                    ),
+            )
+            .child(
+                Element::new("default")
+                    .attr("class", format!("{}_collision", model.name))
+                    .child(
+                        Element::new("geom")
+                            .attr("type", "mesh")
+                            .attr("group", "3")
+                            .attr("condim", "3")
+                            .attr("density", "0")
+                            .attr("rgba", "0.5 0.5 0.5 0.3"),
+                    ),
+            ),
+    );
+    let mut asset = Element::new("asset");
+    for link in &model.links {
+        let rgba: Vec<f64> = link.rgba.iter().map(|&c| f64::from(c)).collect();
+        asset.push(
+            Element::new("material")
+                .attr("name", format!("{}_material", link.name))
+                .attr("rgba", nums(&rgba)),
+        );
+        asset.push(
+            Element::new("mesh")
+                .attr("name", link.visual_stem.clone())
+                .attr("file", format!("{}.obj", link.visual_stem))
+                .attr("inertia", "shell"),
+        );
+        for stem in &link.collision_stems {
+            asset.push(
+                Element::new("mesh")
+                    .attr("name", stem.clone())
+                    .attr("file", format!("{stem}.obj"))
+                    .attr("inertia", "convex"),
+            );
+        }
+    }
+    root.push(asset);
+    let mut world = Element::new("worldbody");
+    world.push(body(model, model.root, None));
+    root.push(world);
+    if !model.exclude_pairs.is_empty() {
+        let mut contact = Element::new("contact");
+        for &(a, b) in &model.exclude_pairs {
+            contact.push(
+                Element::new("exclude")
+                    .attr("body1", model.links[a].name.clone())
+                    .attr("body2", model.links[b].name.clone()),
+            );
+        }
+        root.push(contact);
+    }
+    root.to_document()
+}
+
+/// The body of link `index`, with its joint (if movable) and its child bodies, recursively.
+fn body(model: &Model<'_>, index: usize, joint: Option<&Joint>) -> Element {
+    let link: &Link = &model.links[index];
+    let pos = joint.map_or(link.anchor, |j| model.joint_origin(j));
+    let mut el = Element::new("body")
+        .attr("name", link.name.clone())
+        .attr("pos", nums(&pos.to_array()));
+    let i = link.inertia_kg_m2;
+    el.push(
+        Element::new("inertial")
+            .attr("pos", nums(&link.com_in_link.to_array()))
+            .attr("mass", num(link.mass_kg))
+            .attr(
+                "fullinertia",
+                nums(&[
+                    i.x_axis.x, i.y_axis.y, i.z_axis.z, i.y_axis.x, i.z_axis.x, i.z_axis.y,
+                ]),
+            ),
+    );
+    if let Some(j) = joint.filter(|j| j.kind.is_movable()) {
+        let kind = if j.kind == JointKind::Prismatic {
+            "slide"
+        } else {
+            "hinge"
+        };
+        let mut je = Element::new("joint")
+            .attr("name", j.name.clone())
+            .attr("type", kind)
+            .attr("pos", "0 0 0")
+            .attr("axis", nums(&j.axis_in_object));
+        if let Some(l) = j.limits.filter(|_| j.kind.needs_limits()) {
+            je = je.attr("range", nums(&[l.lower, l.upper]));
+        }
+        el.push(
+            je.attr("damping", num(j.damping))
+                .attr("frictionloss", num(j.friction))
+                .attr("armature", num(ARMATURE_SECS * j.damping)),
+        );
+    }
+    el.push(
+        Element::new("geom")
+            .attr("name", link.visual_stem.clone())
+            .attr("class", format!("{}_visual", model.name))
+            .attr("mesh", link.visual_stem.clone())
+            .attr("material", format!("{}_material", link.name)),
+    );
+    for stem in &link.collision_stems {
+        el.push(
+            Element::new("geom")
+                .attr("name", stem.clone())
+                .attr("class", format!("{}_collision", model.name))
+                .attr("mesh", stem.clone())
+                .attr("friction", format!("{} 0.005 0.0001", num(link.friction))),
+        );
+    }
+    for child_joint in model.joints.iter().filter(|j| j.parent == link.id) {
+        let child_index = model
+            .links
+            .iter()
+            .position(|l| l.id == child_joint.child)
+            .expect("joint children are links");
+        el.push(body(model, child_index, Some(child_joint)));
+    }
+    el
+}

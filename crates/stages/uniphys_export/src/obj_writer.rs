@@ -1,0 +1,56 @@
+//! Wavefront OBJ output: one object per file, no groups (MuJoCo wants one mesh per file).
+
+use std::fmt::Write as _;
+
+use uniphys_geometry::{DVec3, TriMesh};
+
+use crate::xml::num;
+
+/// Writes `mesh` translated by `-origin` (i.e. into a frame located at `origin`).
+/// With `mtl = Some((library, material))` the file references that material.
+pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3, mtl: Option<(&str, &str)>) -> Vec<u8> {
+    let mut s = String::with_capacity(mesh.positions.len() * 32 + mesh.triangles.len() * 24);
+    s.push_str("# written by uniphys\n");
+    if let Some((library, material)) = mtl {
+        let _ = writeln!(s, "mtllib {library}\nusemtl {material}");
+    }
+    for p in &mesh.positions {
+        let q = *p - origin;
+        let _ = writeln!(s, "v {} {} {}", num(q.x), num(q.y), num(q.z));
+    }
+    for t in &mesh.triangles {
+        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s.into_bytes()
+}
+
+/// A one-material MTL file with a diffuse colour.
+pub(crate) fn write_mtl(material: &str, rgba: [f32; 4]) -> Vec<u8> {
+    format!(
+        "# written by uniphys\nnewmtl {material}\nKd {} {} {}\nd {}\n",
+        num(f64::from(rgba[0])),
+        num(f64::from(rgba[1])),
+        num(f64::from(rgba[2])),
+        num(f64::from(rgba[3]))
+    )
+    .into_bytes()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obj_has_one_based_faces_and_shifted_vertices() {
+        let mesh = TriMesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2]]).unwrap();
+        let text = String::from_utf8(write_obj(
+            &mesh,
+            DVec3::new(1.0, 0.0, 0.0),
+            Some(("a.mtl", "m")),
+        ))
+        .unwrap();
+        assert!(text.contains("mtllib a.mtl\nusemtl m\n"));
+        assert!(text.contains("v -1 0 0\nv 0 0 0\nv -1 1 0\n"));
+        assert!(text.ends_with("f 1 2 3\n"));
+    }
+}

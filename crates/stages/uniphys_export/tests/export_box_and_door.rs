@@ -1,0 +1,243 @@
+//! Export of a hand-built two-part asset (a base block and a hinged door), parsed back.
+
+use uniphys_export::{ExportInput, export};
+use uniphys_geometry::{DVec3, TriMesh};
+use uniphys_types::{
+    AssetRecord, Descriptions, Estimate, Joint, JointKind, JointLimits, Material, ObjectProperties,
+    PartId, PartMass, PartProperties, PartRecord, Provenance, SourceFormat, SourceInfo, UpAxis,
+    VerificationReport,
+};
+
+fn block(min: DVec3, max: DVec3) -> TriMesh {
+    let p = |x: usize, y: usize, z: usize| {
+        DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
+    };
+    let positions = vec![
+        p(0, 0, 0),
+        p(1, 0, 0),
+        p(1, 1, 0),
+        p(0, 1, 0),
+        p(0, 0, 1),
+        p(1, 0, 1),
+        p(1, 1, 1),
+        p(0, 1, 1),
+    ];
+    let triangles = vec![
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [3, 7, 6],
+        [3, 6, 2],
+        [0, 4, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 5],
+    ];
+    TriMesh::new(positions, triangles).unwrap()
+}
+
+fn props(material: &str) -> PartProperties {
+    let e = |v: f64| Estimate::new(v, Provenance::rule("test"));
+    PartProperties {
+        material: Estimate::new(Material::parse(material).unwrap(), Provenance::rule("test")),
+        density_kg_per_m3: e(700.0),
+        youngs_modulus_pa: e(1e10),
+        hardness_pa: e(1e8),
+        poisson_ratio: e(0.3),
+        friction_coefficient: e(0.5),
+        affordance_rank: Estimate::new(2, Provenance::rule("test")),
+        graspable: Estimate::new(true, Provenance::rule("test")),
+        descriptions: Descriptions::default(),
+    }
+}
+
+fn part(id: u32, name: &str, min: DVec3, max: DVec3) -> PartRecord {
+    let ext = max - min;
+    let volume = ext.x * ext.y * ext.z;
+    let mass = 700.0 * volume;
+    let c = (min + max) / 2.0;
+    let i = |a: f64, b: f64| mass * (a * a + b * b) / 12.0;
+    PartRecord {
+        id: PartId(id),
+        name: name.into(),
+        triangle_count: 12,
+        bounds_in_object_m: [min.to_array(), max.to_array()],
+        properties: props("wood/oak"),
+        mass: PartMass {
+            volume_m3: volume,
+            volume_method: "closed_mesh".into(),
+            mass_kg: Estimate::new(mass, Provenance::rule("density_times_volume")),
+            com_in_object_m: c.to_array(),
+            inertia_about_com_kg_m2: [
+                [i(ext.y, ext.z), 0.0, 0.0],
+                [0.0, i(ext.x, ext.z), 0.0],
+                [0.0, 0.0, i(ext.x, ext.y)],
+            ],
+        },
+    }
+}
+
+fn record() -> (AssetRecord, Vec<TriMesh>) {
+    let base = (DVec3::new(-0.3, -0.2, 0.0), DVec3::new(0.3, 0.2, 0.6));
+    let door = (DVec3::new(-0.3, -0.22, 0.0), DVec3::new(0.3, -0.205, 0.6));
+    let record = AssetRecord {
+        schema_version: 1,
+        name: "box door".into(),
+        source: SourceInfo {
+            file_name: "x.glb".into(),
+            format: SourceFormat::Glb,
+            content_sha256: "00".into(),
+            metres_per_unit: 1.0,
+            up_axis: UpAxis::Y,
+        },
+        object: ObjectProperties {
+            name: Estimate::new("cabinet".into(), Provenance::rule("t")),
+            category: Estimate::new("Furniture/StorageFurniture".into(), Provenance::rule("t")),
+            dimensions_m: Estimate::new([0.6, 0.42, 0.6], Provenance::rule("t")),
+            mass_kg: Estimate::new(100.0, Provenance::rule("t")),
+        },
+        parts: vec![
+            part(0, "body", base.0, base.1),
+            part(1, "door", door.0, door.1),
+        ],
+        root: PartId(0),
+        joints: vec![Joint {
+            name: "hinge_door".into(),
+            kind: JointKind::Revolute,
+            parent: PartId(0),
+            child: PartId(1),
+            axis_in_object: [0.0, 0.0, 1.0],
+            pivot_in_object_m: [-0.3, -0.21, 0.3],
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: 1.5,
+            }),
+            damping: 0.2,
+            friction: 0.01,
+            coupled_parts: vec![],
+            provenance: Provenance::rule("t"),
+        }],
+    };
+    let meshes = vec![block(base.0, base.1), block(door.0, door.1)];
+    (record, meshes)
+}
+
+fn run_export() -> uniphys_export::ExportOutput {
+    let (record, meshes) = record();
+    let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
+    export(&ExportInput {
+        record: &record,
+        part_meshes: &meshes,
+        colliders: &colliders,
+        part_colors: &[[0.5, 0.3, 0.1, 1.0]; 2],
+        touching_pairs: &[(PartId(0), PartId(1))],
+        report: &VerificationReport::default(),
+        notes: &[],
+    })
+    .unwrap()
+}
+
+fn text(out: &uniphys_export::ExportOutput, path: &str) -> String {
+    String::from_utf8(
+        out.artifacts
+            .iter()
+            .find(|a| a.path == path)
+            .unwrap_or_else(|| panic!("no {path}"))
+            .bytes
+            .clone(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn urdf_has_world_link_limits_dynamics_and_inertia_at_the_com() {
+    let out = run_export();
+    let robot = urdf_rs::read_from_string(&text(&out, "model.urdf")).unwrap();
+    let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["world", "part_0_body", "part_1_door"]);
+    let door = &robot.links[2];
+    assert!((door.inertial.mass.value - 700.0 * 0.6 * 0.015 * 0.6).abs() < 1e-9);
+    // The door frame is at the pivot; its centre of mass sits 0.3 m along +x and 0.0025 m along -y of it.
+    let com = door.inertial.origin.xyz.0;
+    assert!(
+        (com[0] - 0.3).abs() < 1e-9 && (com[1] + 0.0025).abs() < 1e-9 && com[2].abs() < 1e-9,
+        "{com:?}"
+    );
+    assert_eq!(door.collision.len(), 1);
+    let hinge = robot
+        .joints
+        .iter()
+        .find(|j| j.name == "hinge_door")
+        .unwrap();
+    assert!(matches!(hinge.joint_type, urdf_rs::JointType::Revolute));
+    assert_eq!((hinge.limit.lower, hinge.limit.upper), (0.0, 1.5));
+    assert_eq!(hinge.origin.xyz.0, [-0.3, -0.21, 0.3]);
+    assert_eq!(hinge.dynamics.as_ref().unwrap().damping, 0.2);
+    let world = robot
+        .joints
+        .iter()
+        .find(|j| j.name == "world_fixed")
+        .unwrap();
+    assert_eq!(world.parent.link, "world");
+}
+
+#[test]
+fn mjcf_nests_the_door_with_its_joint_and_separates_visual_from_collision() {
+    let out = run_export();
+    let mjcf = text(&out, "model.xml");
+    assert!(mjcf.contains(r#"<compiler angle="radian" meshdir="meshes" autolimits="true"/>"#));
+    let body = mjcf.find(r#"<body name="part_0_body""#).unwrap();
+    let door = mjcf
+        .find(r#"<body name="part_1_door" pos="-0.3 -0.21 0.3">"#)
+        .unwrap();
+    assert!(door > body);
+    assert!(mjcf.contains(r#"<joint name="hinge_door" type="hinge" pos="0 0 0" axis="0 0 1" range="0 1.5" damping="0.2" frictionloss="0.01" armature="0.02"/>"#), "{mjcf}");
+    assert!(mjcf.contains(r#"contype="0" conaffinity="0" group="2""#));
+    // Parent and child touch, but MuJoCo filters parent-child contacts itself: no exclude needed.
+    assert!(!mjcf.contains("<exclude"));
+}
+
+#[test]
+fn link_meshes_are_in_the_link_frame_and_part_meshes_in_the_object_frame() {
+    let out = run_export();
+    let link = text(&out, "meshes/part_1_visual.obj");
+    let part = text(&out, "parts/part_1.obj");
+    // First vertex (-0.3, -0.22, 0) relative to the pivot (-0.3, -0.21, 0.3).
+    assert!(link.contains("v 0 -0.01 -0.3\n"), "{link}");
+    assert!(part.contains("v -0.3 -0.22 0\n"));
+    assert!(part.starts_with("# written by uniphys\nmtllib part_1.mtl\n"));
+}
+
+#[test]
+fn record_annotations_use_dataset_units_and_report_counts_provenance() {
+    let out = run_export();
+    let ann: serde_json::Value =
+        serde_json::from_str(&text(&out, "annotations/part_1.json")).unwrap();
+    assert_eq!(ann["basic_info"]["density"], 0.7);
+    assert_eq!(ann["basic_info"]["young"], 10.0);
+    assert_eq!(ann["kinematic_info"]["motion_types"][0], "C");
+    assert_eq!(ann["kinematic_info"]["motion_info"]["C"]["range"][1], 1.5);
+    assert_eq!(ann["kinematic_info"]["motion_info"]["dependency"][0], 1);
+    let report: serde_json::Value = serde_json::from_str(&text(&out, "report.json")).unwrap();
+    assert!(report["provenance_counts"]["rule:test"].as_u64().unwrap() > 10);
+    assert_eq!(report["summary"]["movable_joints"], 1);
+}
+
+#[test]
+fn export_rejects_inputs_that_do_not_match_the_record() {
+    let (record, meshes) = record();
+    let err = export(&ExportInput {
+        record: &record,
+        part_meshes: &meshes[..1],
+        colliders: &[],
+        part_colors: &[],
+        touching_pairs: &[],
+        report: &VerificationReport::default(),
+        notes: &[],
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("2 parts but 1 meshes"), "{err}");
+}

@@ -1,0 +1,259 @@
+//! The articulation of an asset: the declared joints of an articulated input, completed, or the
+//! geometric heuristic's joints for an input without any.
+
+use std::collections::BTreeSet;
+
+use uniphys_geometry::{Aabb, ContactParams, DVec3, TriMesh, contact_region, min_distance_m};
+use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
+
+use crate::dynamics::{RigidMass, joint_dynamics};
+use crate::joint_geometry::{hinge, slide};
+use crate::roles::{Role, role_of};
+use crate::{BUILTIN_PROVIDER, GroundError, GroundResult};
+
+/// What the articulation step needs to know about a part.
+#[derive(Debug, Clone, Copy)]
+pub struct PartInput<'a> {
+    /// Part name.
+    pub name: &'a str,
+    /// Mesh in the object frame.
+    pub mesh: &'a TriMesh,
+    /// Solid volume, m^3.
+    pub volume_m3: f64,
+    /// Mass properties in the object frame.
+    pub mass: RigidMass,
+}
+
+/// The articulation tree: a root fixed to the world and one joint per other part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Articulation {
+    /// The part fixed to the world.
+    pub root: PartId,
+    /// One joint per non-root part, sorted by child id.
+    pub joints: Vec<Joint>,
+    /// What was completed or assumed, for the report.
+    pub notes: Vec<String>,
+}
+
+fn pid(i: usize) -> PartId {
+    PartId(u32::try_from(i).unwrap_or(u32::MAX))
+}
+
+/// Builds the articulation. With `declared` joints (an articulated input) they are kept and
+/// completed; otherwise the heuristic proposes them from names and geometry.
+pub fn articulate(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<Articulation> {
+    if parts.is_empty() {
+        return Err(GroundError::NoParts);
+    }
+    let (root, mut joints, mut notes) =
+        if declared.is_empty() { heuristic_joints(parts) } else { complete_declared(parts, declared)? };
+    fill_dynamics_and_groups(parts, &mut joints, &mut notes);
+    joints.sort_by_key(|j| j.child);
+    Ok(Articulation { root, joints, notes })
+}
+
+fn complete_declared(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<(PartId, Vec<Joint>, Vec<String>)> {
+    let n = parts.len();
+    let mut notes = Vec::new();
+    let mut joints: Vec<Joint> = Vec::new();
+    let mut has_parent = vec![false; n];
+    for joint in declared {
+        for part in [joint.parent, joint.child] {
+            if part.0 as usize >= n {
+                return Err(GroundError::JointReferencesMissingPart { joint: joint.name.clone(), part });
+            }
+        }
+        let child = joint.child.0 as usize;
+        if has_parent[child] {
+            return Err(GroundError::TwoParents { part: joint.child });
+        }
+        has_parent[child] = true;
+        let mut joint = joint.clone();
+        if joint.kind.needs_limits() && joint.limits.is_none() {
+            let limits = if joint.kind == JointKind::Revolute {
+                JointLimits { lower: -std::f64::consts::PI, upper: std::f64::consts::PI }
+            } else {
+                let extent = parts[child].mesh.bounds().extents().dot(DVec3::from_array(joint.axis_in_object).abs());
+                JointLimits { lower: 0.0, upper: extent.max(1e-3) }
+            };
+            notes.push(format!("joint {:?} had no limits; defaulted to [{:.4}, {:.4}]", joint.name, limits.lower, limits.upper));
+            joint.limits = Some(limits);
+        }
+        joints.push(joint);
+    }
+    // Every part without a parent is a root; keep the one with the most descendants and fix the
+    // others to it (an articulated input made of several disconnected trees).
+    let roots: Vec<usize> = (0..n).filter(|&i| !has_parent[i]).collect();
+    let subtree_size = |r: usize| descendants(&joints, pid(r)).len();
+    let root = roots.iter().copied().max_by_key(|&r| (subtree_size(r), std::cmp::Reverse(r))).ok_or(GroundError::NoRoot)?;
+    for other in roots.into_iter().filter(|&r| r != root) {
+        notes.push(format!("part {:?} was not connected to the root; fixed to it", parts[other].name));
+        joints.push(fixed_joint(pid(root), pid(other), parts[other].mass.com, Provenance::rule("disconnected_part_fixed_to_root")));
+    }
+    Ok((pid(root), joints, notes))
+}
+
+fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>) {
+    let n = parts.len();
+    let roles: Vec<Role> = parts.iter().map(|p| role_of(p.name).0).collect();
+    let volumes: Vec<f64> = parts.iter().map(|p| p.volume_m3).collect();
+    let mut distance = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in (i + 1)..n {
+            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
+            distance[i][j] = d;
+            distance[j][i] = d;
+        }
+    }
+    let (root, parents) = crate::tree::build_tree(&roles, &volumes, &|i, j| distance[i][j]);
+    let bounds: Vec<Aabb> = parts.iter().map(|p| p.mesh.bounds()).collect();
+    let object_diagonal_m = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b)).diagonal();
+    let mut notes = Vec::new();
+    let mut joints = Vec::new();
+    for (i, parent) in parents.iter().enumerate() {
+        let Some(p) = *parent else { continue };
+        let provenance = |what: &str| Provenance::provider(BUILTIN_PROVIDER, format!("geometric heuristic: {what}"));
+        let joint = match roles[i] {
+            Role::Sliding if i != root.0 as usize => {
+                let h = slide(&bounds[i], &bounds[p]);
+                movable_joint(JointKind::Prismatic, pid(p), pid(i), h.axis, h.pivot, (h.lower, h.upper), provenance("slides out of the open side of its parent"))
+            }
+            Role::Hinged if i != root.0 as usize => {
+                let contact = contact_region(parts[i].mesh, parts[p].mesh, object_diagonal_m, &ContactParams::default())
+                    .ok()
+                    .filter(|c| !c.points.is_empty())
+                    .map(|c| c.points.iter().sum::<DVec3>() / c.points.len() as f64);
+                let attachments: Vec<DVec3> =
+                    (0..n).filter(|&k| parent_is(k, i, &roles, &parents)).map(|k| bounds[k].center()).collect();
+                let away_from = (!attachments.is_empty()).then(|| attachments.iter().sum::<DVec3>() / attachments.len() as f64);
+                let h = hinge(&bounds[i], bounds[p].center(), contact, away_from);
+                let why = if away_from.is_some() { "hinge on the edge opposite the handle" } else { "hinge on the edge nearest the contact with the parent" };
+                movable_joint(JointKind::Revolute, pid(p), pid(i), h.axis, h.pivot, (h.lower, h.upper), provenance(why))
+            }
+            _ => fixed_joint(pid(p), pid(i), parts[i].mass.com, provenance("rigidly attached to the nearest part")),
+        };
+        joints.push(joint);
+    }
+    if joints.iter().all(|j| !j.kind.is_movable()) && n > 1 {
+        notes.push("no part name suggested motion (door, drawer, lid, ...); all parts fixed".to_owned());
+    }
+    (root, joints, notes)
+}
+
+fn parent_is(k: usize, i: usize, roles: &[Role], parent: &[Option<usize>]) -> bool {
+    roles[k] == Role::Attachment && parent[k] == Some(i)
+}
+
+fn movable_joint(kind: JointKind, parent: PartId, child: PartId, axis: DVec3, pivot: DVec3, range: (f64, f64), provenance: Provenance) -> Joint {
+    Joint {
+        name: String::new(),
+        kind,
+        parent,
+        child,
+        axis_in_object: axis.normalize().to_array(),
+        pivot_in_object_m: pivot.to_array(),
+        limits: Some(JointLimits { lower: range.0, upper: range.1 }),
+        damping: 0.0,
+        friction: 0.0,
+        coupled_parts: Vec::new(),
+        provenance,
+    }
+}
+
+fn fixed_joint(parent: PartId, child: PartId, anchor: DVec3, provenance: Provenance) -> Joint {
+    Joint {
+        name: String::new(),
+        kind: JointKind::Fixed,
+        parent,
+        child,
+        axis_in_object: [1.0, 0.0, 0.0],
+        pivot_in_object_m: anchor.to_array(),
+        limits: None,
+        damping: 0.0,
+        friction: 0.0,
+        coupled_parts: Vec::new(),
+        provenance,
+    }
+}
+
+/// All parts below `part` in the joint tree, sorted.
+fn descendants(joints: &[Joint], part: PartId) -> BTreeSet<PartId> {
+    let mut out = BTreeSet::new();
+    let mut stack = vec![part];
+    while let Some(p) = stack.pop() {
+        for j in joints.iter().filter(|j| j.parent == p) {
+            if out.insert(j.child) {
+                stack.push(j.child);
+            }
+        }
+    }
+    out
+}
+
+/// The parts fixed (transitively, through fixed joints only) to `part`.
+fn fixed_group(joints: &[Joint], part: PartId) -> Vec<PartId> {
+    let mut out = BTreeSet::new();
+    let mut stack = vec![part];
+    while let Some(p) = stack.pop() {
+        for j in joints.iter().filter(|j| j.parent == p && j.kind == JointKind::Fixed) {
+            if out.insert(j.child) {
+                stack.push(j.child);
+            }
+        }
+    }
+    out.into_iter().collect()
+}
+
+fn fill_dynamics_and_groups(parts: &[PartInput<'_>], joints: &mut [Joint], notes: &mut Vec<String>) {
+    let snapshot: Vec<Joint> = joints.to_vec();
+    let mut used = BTreeSet::new();
+    for joint in joints.iter_mut() {
+        let base = if joint.name.is_empty() {
+            format!("{}_{}", kind_word(joint.kind), sanitize(parts[joint.child.0 as usize].name))
+        } else {
+            sanitize(&joint.name)
+        };
+        let mut name = base.clone();
+        let mut k = 1;
+        while !used.insert(name.clone()) {
+            k += 1;
+            name = format!("{base}_{k}");
+        }
+        joint.name = name;
+        if !joint.kind.is_movable() {
+            continue;
+        }
+        joint.coupled_parts = fixed_group(&snapshot, joint.child);
+        let mut moving: Vec<RigidMass> = vec![parts[joint.child.0 as usize].mass];
+        moving.extend(descendants(&snapshot, joint.child).iter().map(|p| parts[p.0 as usize].mass));
+        let group = RigidMass::combine(&moving);
+        let rotational = joint.kind != JointKind::Prismatic;
+        let (damping, friction) =
+            joint_dynamics(&group, DVec3::from_array(joint.axis_in_object), DVec3::from_array(joint.pivot_in_object_m), rotational);
+        if joint.damping <= 0.0 {
+            joint.damping = damping;
+            if matches!(joint.provenance, Provenance::Input { .. }) {
+                notes.push(format!("joint {:?}: damping from rule joint_dynamics_from_inertia", joint.name));
+            }
+        }
+        if joint.friction <= 0.0 {
+            joint.friction = friction;
+        }
+    }
+}
+
+fn kind_word(kind: JointKind) -> &'static str {
+    match kind {
+        JointKind::Revolute => "hinge",
+        JointKind::Continuous => "spin",
+        JointKind::Prismatic => "slide",
+        JointKind::Fixed => "fixed",
+    }
+}
+
+/// ASCII letters, digits and `_` only; other characters become `_`.
+#[must_use]
+pub fn sanitize(name: &str) -> String {
+    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '_' }).collect();
+    if s.is_empty() { "part".to_owned() } else { s }
+}

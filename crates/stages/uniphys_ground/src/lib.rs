@@ -1,0 +1,37 @@
+//! The built-in grounder: assigns materials, intrinsic properties, object properties and an
+//! articulation without any model or network. Every value it produces names it
+//! ([`BUILTIN_PROVIDER`]) in its provenance, or says it is a default.
+//!
+//! - materials from glTF/MTL material names, then part names ([`ground_part`]);
+//! - properties from typical values of known subtypes or the centre of the material prior;
+//! - object name, category, dimensions and mass ([`object_properties`]);
+//! - joints: declared ones completed, or a geometric heuristic from part names and bounding
+//!   boxes ([`articulate`]); passive dynamics from the moving parts' inertia ([`joint_dynamics`]).
+
+mod articulate;
+mod dynamics;
+mod error;
+mod intrinsic;
+mod joint_geometry;
+mod keywords;
+mod material_guess;
+mod object;
+mod roles;
+mod tree;
+
+pub use articulate::{Articulation, PartInput, articulate, sanitize};
+pub use dynamics::{DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, RigidMass, joint_dynamics, parallel_axis};
+pub use error::{GroundError, GroundResult};
+pub use object::object_properties;
+
+use uniphys_types::PartProperties;
+
+/// Provider name of the built-in grounder, as it appears in provenance.
+pub const BUILTIN_PROVIDER: &str = "builtin-grounder";
+
+/// Material and intrinsic properties of one part from its material names and its part name.
+#[must_use]
+pub fn ground_part(material_names: &[&str], part_name: &str) -> PartProperties {
+    let (material, provenance) = material_guess::guess_material(material_names, part_name);
+    intrinsic::part_properties(material, provenance, part_name)
+}

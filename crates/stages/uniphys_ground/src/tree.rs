@@ -1,0 +1,94 @@
+//! Building the articulation tree of an asset without declared joints: which part is the root
+//! and which part each other part hangs from.
+
+use uniphys_types::PartId;
+
+use crate::roles::Role;
+
+/// Picks parents for every part given roles and pairwise distances (metres).
+///
+/// - The root is the largest body part (by volume); if there is none, the largest part.
+/// - Body parts join the tree one at a time, the closest to the tree first (Prim's algorithm),
+///   fixed to their nearest body already in the tree.
+/// - Sliding and hinged parts hang from their nearest body part.
+/// - Attachments hang from their nearest non-attachment part.
+///
+/// Returns the root and `parent[i]` (`None` for the root). Ties go to the lower part index.
+pub(crate) fn build_tree(roles: &[Role], volumes_m3: &[f64], distance_m: &dyn Fn(usize, usize) -> f64) -> (PartId, Vec<Option<usize>>) {
+    let n = roles.len();
+    let largest = |filter: &dyn Fn(usize) -> bool| {
+        (0..n).filter(|&i| filter(i)).fold(None, |best: Option<usize>, i| match best {
+            Some(b) if volumes_m3[b] >= volumes_m3[i] => Some(b),
+            _ => Some(i),
+        })
+    };
+    let root = largest(&|i| roles[i] == Role::Body).or_else(|| largest(&|_| true)).unwrap_or(0);
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    let is_body = |i: usize| roles[i] == Role::Body || i == root;
+
+    // Body parts, Prim-style.
+    let mut in_tree = vec![false; n];
+    in_tree[root] = true;
+    loop {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for candidate in (0..n).filter(|&i| is_body(i) && !in_tree[i]) {
+            for anchor in (0..n).filter(|&j| in_tree[j] && is_body(j)) {
+                let d = distance_m(candidate, anchor);
+                if best.is_none_or(|(bd, ..)| d < bd) {
+                    best = Some((d, candidate, anchor));
+                }
+            }
+        }
+        let Some((_, candidate, anchor)) = best else { break };
+        parent[candidate] = Some(anchor);
+        in_tree[candidate] = true;
+    }
+
+    let nearest = |i: usize, filter: &dyn Fn(usize) -> bool| {
+        (0..n).filter(|&j| j != i && filter(j)).fold(None, |best: Option<(f64, usize)>, j| {
+            let d = distance_m(i, j);
+            match best {
+                Some((bd, _)) if bd <= d => best,
+                _ => Some((d, j)),
+            }
+        })
+    };
+    for i in 0..n {
+        if i == root || is_body(i) {
+            continue;
+        }
+        let anchor = match roles[i] {
+            Role::Attachment => nearest(i, &|j| roles[j] != Role::Attachment || j == root),
+            _ => nearest(i, &is_body),
+        };
+        parent[i] = Some(anchor.map_or(root, |(_, j)| j));
+    }
+    // An attachment fixed to another attachment could form a cycle only between attachments,
+    // which `nearest` excludes; moving parts hang from bodies, which are all in the tree.
+    (PartId(u32::try_from(root).unwrap_or(0)), parent)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cabinet_like_layout_gets_the_expected_parents() {
+        // 0 body, 1 drawer, 2 drawer handle, 3 door, 4 door handle; positions on a line.
+        let roles = [Role::Body, Role::Sliding, Role::Attachment, Role::Hinged, Role::Attachment];
+        let volumes = [1.0, 0.1, 0.001, 0.05, 0.001];
+        let pos = [0.0, 0.3, 0.35, -0.3, -0.36];
+        let d = |i: usize, j: usize| (pos[i] - pos[j] as f64).abs();
+        let (root, parent) = build_tree(&roles, &volumes, &d);
+        assert_eq!(root, PartId(0));
+        assert_eq!(parent, vec![None, Some(0), Some(1), Some(0), Some(3)]);
+    }
+
+    #[test]
+    fn without_a_body_the_largest_part_is_the_root() {
+        let roles = [Role::Hinged, Role::Hinged];
+        let (root, parent) = build_tree(&roles, &[0.1, 0.2], &|_, _| 0.0);
+        assert_eq!(root, PartId(1));
+        assert_eq!(parent, vec![Some(1), None]);
+    }
+}

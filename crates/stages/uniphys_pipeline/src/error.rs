@@ -1,0 +1,31 @@
+/// Errors of the in-process pipeline, one variant per stage that can fail.
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    /// The input could not be read.
+    #[error(transparent)]
+    Ingest(#[from] uniphys_mesh_io::IngestError),
+    /// A geometric computation failed.
+    #[error("geometry of part {part:?}: {source}")]
+    Geometry {
+        /// Part name.
+        part: String,
+        /// The error.
+        #[source]
+        source: uniphys_geometry::GeometryError,
+    },
+    /// Grounding failed.
+    #[error(transparent)]
+    Ground(#[from] uniphys_ground::GroundError),
+    /// Export failed.
+    #[error(transparent)]
+    Export(#[from] uniphys_export::ExportError),
+    /// The assembled record broke an invariant (a bug in an earlier stage).
+    #[error("assembled asset record is invalid: {0}")]
+    Record(#[from] uniphys_types::TypesError),
+    /// The input has nothing to process.
+    #[error("{0}")]
+    Empty(String),
+}
+
+/// Result alias for [`PipelineError`].
+pub type PipelineResult<T> = Result<T, PipelineError>;

@@ -1,0 +1,53 @@
+use std::time::Duration;
+
+/// The stages of an in-process run, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Stage {
+    /// Load and validate the input.
+    Ingest,
+    /// Frame normalisation and per-part mass properties.
+    Prepare,
+    /// Materials, properties and articulation (built-in grounder).
+    Ground,
+    /// Convex decomposition of every part.
+    Colliders,
+    /// URDF, MJCF, meshes, record and report.
+    Export,
+}
+
+impl Stage {
+    /// All stages in run order.
+    pub const ALL: [Stage; 5] = [Stage::Ingest, Stage::Prepare, Stage::Ground, Stage::Colliders, Stage::Export];
+
+    /// Lower-case name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Ingest => "ingest",
+            Stage::Prepare => "prepare",
+            Stage::Ground => "ground",
+            Stage::Colliders => "colliders",
+            Stage::Export => "export",
+        }
+    }
+}
+
+/// Receives progress of a run. Implementations must be cheap; they are called from the run's thread.
+pub trait Progress: Sync {
+    /// A stage began.
+    fn stage_started(&self, stage: Stage);
+    /// `done` of `total` units of a stage are finished (e.g. parts decomposed).
+    fn stage_advanced(&self, stage: Stage, done: usize, total: usize);
+    /// A stage ended, with how long it took and a one-line summary.
+    fn stage_finished(&self, stage: Stage, elapsed: Duration, summary: &str);
+}
+
+/// A [`Progress`] that ignores everything.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn stage_started(&self, _: Stage) {}
+    fn stage_advanced(&self, _: Stage, _: usize, _: usize) {}
+    fn stage_finished(&self, _: Stage, _: Duration, _: &str) {}
+}

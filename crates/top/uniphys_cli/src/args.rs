@@ -1,0 +1,89 @@
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// Turn raw 3D assets into simulation-ready assets.
+#[derive(Debug, Parser)]
+#[command(name = "uniphys", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the whole pipeline on one asset in this process (no database, no network).
+    Run(RunArgs),
+    /// Print the mass properties of every part of a mesh file as JSON: exact (closed meshes) and
+    /// voxelised, in the file's own coordinates (no up-axis change).
+    Measure {
+        /// The mesh file.
+        mesh: PathBuf,
+        /// Voxels along the longest side of each part.
+        #[arg(long, default_value_t = 128)]
+        voxel_resolution: usize,
+    },
+    /// Write the example assets (cabinet, laptop, box with lid, mug) as GLB files.
+    Examples {
+        /// Output directory.
+        #[arg(long, default_value = "test_data/examples")]
+        out: PathBuf,
+    },
+}
+
+/// Up axis of the input.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum UpArg {
+    /// The format's convention (glTF and OBJ: Y; PLY, STL and URDF: Z).
+    Auto,
+    /// +Y is up.
+    Y,
+    /// +Z is up.
+    Z,
+}
+
+/// Arguments of `uniphys run`.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// The asset: .glb, .gltf, .obj, .ply, .stl, .urdf, or a folder with one URDF (PartNet-Mobility style).
+    pub asset: PathBuf,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Up axis of the input coordinates.
+    #[arg(long, value_enum, default_value_t = UpArg::Auto)]
+    pub up: UpArg,
+    /// Unit of the input coordinates: m, cm, mm, in, ft, or metres per unit as a number.
+    #[arg(long, default_value = "m")]
+    pub unit: String,
+    /// Refuse inputs with more triangles than this.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub max_triangles: usize,
+    /// Voxels along the longest side of a part, for volumes of open meshes.
+    #[arg(long, default_value_t = 128)]
+    pub voxel_resolution: usize,
+    /// Most convex hulls per part in the colliders.
+    #[arg(long, default_value_t = 16)]
+    pub max_hulls: usize,
+    /// Print the run summary as JSON on stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Metres per unit for a `--unit` value.
+pub fn metres_per_unit(unit: &str) -> anyhow::Result<f64> {
+    let value = match unit.trim().to_ascii_lowercase().as_str() {
+        "m" | "meter" | "metre" | "meters" | "metres" => 1.0,
+        "cm" => 0.01,
+        "mm" => 0.001,
+        "in" | "inch" | "inches" => 0.0254,
+        "ft" | "foot" | "feet" => 0.3048,
+        other => other.parse::<f64>().map_err(|_| anyhow::anyhow!("unknown unit {unit:?}: use m, cm, mm, in, ft, or a number of metres per unit"))?,
+    };
+    if !(value.is_finite() && value > 0.0) {
+        anyhow::bail!("unit {unit:?} must give a positive number of metres per unit");
+    }
+    Ok(value)
+}

@@ -1,0 +1,31 @@
+//! The `uniphys` command line: argument parsing and the subcommands.
+//!
+//! - `uniphys run <asset> --out <dir>`: the whole pipeline on one asset, no servers;
+//! - `uniphys measure <mesh>`: exact and voxel mass properties per part, as JSON;
+//! - `uniphys examples --out <dir>`: write the example assets as GLB.
+
+mod args;
+mod measure_cmd;
+mod progress;
+mod run_cmd;
+
+pub use args::{Cli, Command};
+
+use std::process::ExitCode;
+
+/// Runs a parsed command line; the exit code is 0 on success, 1 if the asset was exported but
+/// failed checks.
+pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Run(args) => run_cmd::run(&args),
+        Command::Measure { mesh, voxel_resolution } => measure_cmd::measure(&mesh, voxel_resolution),
+        Command::Examples { out } => {
+            let written = uniphys_examples::write_catalogue(&out)
+                .map_err(|e| anyhow::anyhow!("failed to write the example assets to {}: {e}", out.display()))?;
+            for path in written {
+                println!("{}", path.display());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

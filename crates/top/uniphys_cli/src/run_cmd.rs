@@ -1,0 +1,83 @@
+use std::process::ExitCode;
+
+use anyhow::Context;
+use uniphys_mesh_io::IngestOptions;
+use uniphys_pipeline::{RunOptions, run};
+use uniphys_storage::ArtifactStore;
+use uniphys_types::UpAxis;
+
+use crate::args::{RunArgs, UpArg, metres_per_unit};
+use crate::progress::StderrProgress;
+
+pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
+    let mut options = RunOptions {
+        ingest: IngestOptions {
+            up_axis: match args.up {
+                UpArg::Auto => None,
+                UpArg::Y => Some(UpAxis::Y),
+                UpArg::Z => Some(UpAxis::Z),
+            },
+            metres_per_unit: metres_per_unit(&args.unit)?,
+            max_triangles: args.max_triangles,
+            ..IngestOptions::default()
+        },
+        voxel_resolution: args.voxel_resolution,
+        ..RunOptions::default()
+    };
+    options.convex.max_hulls = args.max_hulls;
+    let output = run(&args.asset, &options, &StderrProgress::new())?;
+
+    let store = ArtifactStore::local(&args.out)?;
+    let runtime = tokio::runtime::Builder::new_current_thread().build().context("failed to start the IO runtime")?;
+    runtime.block_on(async {
+        for artifact in &output.artifacts {
+            store.put(&artifact.path, artifact.bytes.clone()).await?;
+        }
+        anyhow::Ok(())
+    })?;
+
+    let record = &output.record;
+    let movable: Vec<String> = record
+        .joints
+        .iter()
+        .filter(|j| j.kind.is_movable())
+        .map(|j| format!("{} ({:?})", j.name, j.kind).to_lowercase())
+        .collect();
+    let failures: Vec<String> = output.report.failures().map(|c| format!("{} {}: {}", c.subject, c.check, c.message)).collect();
+    let total_ms: f64 = output.timings.iter().map(|(_, d)| d.as_secs_f64() * 1e3).sum();
+    if args.json {
+        let summary = serde_json::json!({
+            "asset": record.name,
+            "out": args.out,
+            "parts": record.parts.len(),
+            "movable_joints": movable,
+            "mass_kg": record.object.mass_kg.value,
+            "category": record.object.category.value,
+            "passed": failures.is_empty(),
+            "failures": failures,
+            "timings_ms": output.timings.iter().map(|(s, d)| (s.name(), d.as_secs_f64() * 1e3)).collect::<std::collections::BTreeMap<_, _>>(),
+        });
+        println!("{summary}");
+    } else {
+        println!("{}: {} parts, {} movable joints [{}]", record.name, record.parts.len(), movable.len(), movable.join(", "));
+        println!(
+            "object: {} ({}), {:.3} kg, {:.3} x {:.3} x {:.3} m",
+            record.object.name.value,
+            record.object.category.value,
+            record.object.mass_kg.value,
+            record.object.dimensions_m.value[0],
+            record.object.dimensions_m.value[1],
+            record.object.dimensions_m.value[2]
+        );
+        println!("wrote {} files to {} in {total_ms:.0} ms (model.urdf, model.xml, report.json, annotations/)", output.artifacts.len(), args.out.display());
+        if failures.is_empty() {
+            println!("all checks passed");
+        } else {
+            println!("{} checks failed (see report.json):", failures.len());
+            for f in &failures {
+                println!("  {f}");
+            }
+        }
+    }
+    Ok(if failures.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}

@@ -1,0 +1,99 @@
+"""Shared fixtures: run `uniphys run` on every example asset and on every URDF with movable joints
+in PyBullet's data folder, once per session, two at a time."""
+
+import glob
+import json
+import os
+import re
+import subprocess
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import pybullet_data
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLES = sorted((REPO / "test_data" / "examples").glob("*.glb"))
+MOVABLE = re.compile(r'<joint[^>]*type\s*=\s*"(revolute|prismatic|continuous)"')
+
+
+def uniphys_bin() -> str:
+    binary = os.environ.get("UNIPHYS_BIN", str(REPO / "target" / "debug" / "uniphys"))
+    if not Path(binary).is_file():
+        pytest.fail(f"uniphys binary not found at {binary}; build it with `cargo build --bin uniphys` or set UNIPHYS_BIN")
+    return binary
+
+
+def pybullet_urdfs():
+    root = Path(pybullet_data.getDataPath())
+    found = []
+    for path in sorted(glob.glob(str(root / "**" / "*.urdf"), recursive=True)):
+        text = Path(path).read_text(errors="replace")
+        if MOVABLE.search(text):
+            found.append(Path(path))
+    return root, found
+
+
+@dataclass
+class Export:
+    """The outcome of `uniphys run` on one input."""
+
+    name: str
+    source: Path
+    out: Path
+    returncode: int
+    stderr: str
+    summary: dict
+
+    @property
+    def exported(self) -> bool:
+        # 0: exported and all checks passed; 1: exported, some checks failed; 2: rejected.
+        return self.returncode in (0, 1)
+
+
+def _run(binary: str, source: Path, out: Path) -> tuple[int, str, dict]:
+    proc = subprocess.run(
+        [binary, "run", str(source), "--out", str(out), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    summary = json.loads(proc.stdout) if proc.stdout.strip().startswith("{") else {}
+    return proc.returncode, proc.stderr, summary
+
+
+def _inputs():
+    items = [(f"example/{p.stem}", p) for p in EXAMPLES]
+    root, urdfs = pybullet_urdfs()
+    items += [(f"pybullet/{p.relative_to(root).with_suffix('')}", p) for p in urdfs]
+    return items
+
+
+INPUTS = _inputs()
+
+
+@pytest.fixture(scope="session")
+def exports() -> dict[str, Export]:
+    binary = uniphys_bin()
+    work = Path(tempfile.mkdtemp(prefix="uniphys-sim-"))
+
+    def one(item):
+        name, source = item
+        out = work / name.replace("/", "__")
+        code, stderr, summary = _run(binary, source, out)
+        return name, Export(name, source, out, code, stderr, summary)
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return dict(pool.map(one, INPUTS))
+
+
+def exported(exports: dict[str, Export], name: str) -> Export:
+    """The export of `name`; examples must be exported, other inputs are skipped if rejected."""
+    e = exports[name]
+    if not e.exported:
+        if name.startswith("example/"):
+            pytest.fail(f"uniphys rejected the example {name}: {e.stderr.strip()}")
+        pytest.skip(f"ingest does not accept {e.source.name}: {e.stderr.strip().splitlines()[-1] if e.stderr.strip() else e.returncode}")
+    return e
