@@ -35,6 +35,12 @@ pub enum GeometryError {
     /// An operation needed more input than it got (e.g. a plane fit from two points).
     #[error("not enough input: {0}")]
     NotEnoughInput(String),
+    /// A parameter was outside its valid range (e.g. a voxel resolution of zero).
+    #[error("invalid parameter: {0}")]
+    InvalidParameter(String),
+    /// The convex hull of a point set could not be computed.
+    #[error("convex hull failed: {0}")]
+    ConvexHull(String),
 }
 
 /// Result alias for [`GeometryError`].

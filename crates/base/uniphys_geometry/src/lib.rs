@@ -5,12 +5,45 @@
 //! Coordinates are `f64` metres in the object frame (Z up) once an asset has been ingested.
 
 mod aabb;
+mod bitset;
+mod color;
+mod components;
+mod contact;
+mod convex;
+mod eigen;
 mod error;
+mod hull;
+mod inertia;
+mod kdtree;
+mod kmeans;
+mod mass;
 mod mesh;
 mod mesh_asset;
+mod plane;
+mod rng;
+mod sampling;
+mod solid;
+#[cfg(test)]
+mod test_shapes;
+mod tri_box;
+mod voxel;
+mod voxel_raster;
 
 pub use aabb::Aabb;
+pub use components::connected_components;
+pub use contact::{ContactParams, ContactRegion, contact_region, min_distance_m};
+pub use convex::{ConvexParams, convex_decomposition};
+pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
 pub use glam::{DMat3, DMat4, DVec3};
+pub use hull::convex_hull;
+pub use inertia::inertia_is_physical;
+pub use kmeans::{KMeans, kmeans};
+pub use mass::MassProperties;
 pub use mesh::TriMesh;
 pub use mesh_asset::{MeshAsset, MeshPart, SurfaceMaterial, Texture};
+pub use plane::{Plane, fit_plane, fit_plane_ransac};
+pub use rng::SplitMix64;
+pub use sampling::{SurfaceSamples, sample_points, sample_surface};
+pub use solid::{VolumeMethod, solid_mass_properties};
+pub use voxel::{MAX_VOXEL_RESOLUTION, VoxelGrid, voxelize};
