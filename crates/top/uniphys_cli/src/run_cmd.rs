@@ -2,7 +2,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use uniphys_mesh_io::IngestOptions;
-use uniphys_pipeline::{RunOptions, run};
+use uniphys_pipeline::{RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
 use uniphys_types::UpAxis;
 
@@ -25,7 +25,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         ..RunOptions::default()
     };
     options.convex.max_hulls = args.max_hulls;
-    let output = run(&args.asset, &options, &StderrProgress::new())?;
+    let output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
 
     let store = ArtifactStore::local(&args.out)?;
     let runtime = tokio::runtime::Builder::new_current_thread().build().context("failed to start the IO runtime")?;
