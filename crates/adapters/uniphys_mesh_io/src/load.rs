@@ -20,6 +20,9 @@ pub struct LoadedAsset {
     pub source: SourceInfo,
     /// Zero-area triangles removed from the input (parts made only of them are errors).
     pub dropped_degenerate_triangles: usize,
+    /// What was tolerated rather than refused (a missing MTL file: the geometry loads without its
+    /// materials), one sentence each.
+    pub warnings: Vec<String>,
 }
 
 /// The format of `path` by its extension (`.glb .gltf .obj .ply .stl .urdf`, any case). A
@@ -94,6 +97,7 @@ pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAs
     let up_axis = options.up_axis.unwrap_or(default_up_axis(format));
     asset.transform(&to_service_frame(up_axis, options.metres_per_unit));
     let dropped_degenerate_triangles = session.dropped_degenerate;
+    let warnings = std::mem::take(&mut session.warnings);
     Ok(LoadedAsset {
         asset,
         source: SourceInfo {
@@ -106,6 +110,7 @@ pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAs
             up_axis,
         },
         dropped_degenerate_triangles,
+        warnings,
     })
 }
 

@@ -30,6 +30,7 @@ pub(crate) fn read_obj(
     session: &mut Session<'_>,
 ) -> IngestResult<MeshAsset> {
     let base_dir = path.parent().unwrap_or(Path::new("/")).to_path_buf();
+    let warnings_before = session.warnings.len();
     let state = RefCell::new((&mut *session, None::<IngestError>, Vec::<MtlLib>::new()));
     let loader = |reference: &Path| -> tobj::MTLLoadResult {
         let mut guard = state.borrow_mut();
@@ -45,6 +46,14 @@ pub(crate) fn read_obj(
                     count: loaded.0.len(),
                 });
                 Ok(loaded)
+            }
+            // A missing MTL costs only colours and material names: load the geometry, say so.
+            Err(IngestError::MissingReference { reference, .. }) => {
+                session.warnings.push(format!(
+                    "{} references the material library {reference:?}, which does not exist; loaded without its materials",
+                    path.display()
+                ));
+                Err(tobj::LoadError::OpenFileFailed)
             }
             Err(e) => {
                 *error = Some(e);
@@ -73,7 +82,11 @@ pub(crate) fn read_obj(
         return Err(e);
     }
     let (models, materials) = loaded.map_err(|e| IngestError::parse(path, "obj", e.to_string()))?;
-    let materials = materials.map_err(|e| IngestError::parse(path, "mtl", e.to_string()))?;
+    let materials = match materials {
+        Ok(materials) => materials,
+        Err(_) if session.warnings.len() > warnings_before => Vec::new(),
+        Err(e) => return Err(IngestError::parse(path, "mtl", e.to_string())),
+    };
 
     let mut asset = MeshAsset::default();
     load_materials(&materials, &libs, &mut asset, session)?;

@@ -79,8 +79,8 @@ pub(crate) fn resolve_absolute(
     existing_inside(referencing, reference, out, root)
 }
 
-/// Resolves a URDF mesh `filename`: `package://<pkg>/rest` is looked up as `rest` relative to
-/// the URDF's directory and then to its parent; `file://` URIs must point inside `root`; plain
+/// Resolves a URDF mesh `filename`: `package://<pkg>/rest` is looked up as `rest`, then as
+/// `<pkg>/rest`, relative to the URDF's directory and then to its parent; `file://` URIs must point inside `root`; plain
 /// names are relative to the URDF's directory.
 pub(crate) fn resolve_urdf_reference(
     urdf: &Path,
@@ -88,18 +88,22 @@ pub(crate) fn resolve_urdf_reference(
     root: &Path,
     filename: &str,
 ) -> IngestResult<PathBuf> {
-    if let Some(rest) = filename.strip_prefix("package://") {
-        let rest = rest.split_once('/').map_or("", |(_, r)| r);
-        let first = resolve_reference(urdf, urdf_dir, root, rest);
-        if !matches!(first, Err(IngestError::MissingReference { .. })) {
-            return first;
-        }
-        if let Some(parent) = urdf_dir.parent().filter(|p| p.starts_with(root)) {
-            let second = resolve_reference(urdf, parent, root, rest);
-            if !matches!(second, Err(IngestError::MissingReference { .. })) {
-                return second;
+    if let Some(full) = filename.strip_prefix("package://") {
+        // `package://<pkg>/rest`: try `rest` and the whole `<pkg>/rest` (some exports name a
+        // folder as the package), next to the URDF and then in its parent directory.
+        let rest = full.split_once('/').map_or("", |(_, r)| r);
+        let parent = urdf_dir.parent().filter(|p| p.starts_with(root));
+        let mut first = None;
+        for dir in std::iter::once(urdf_dir).chain(parent) {
+            for candidate in [rest, full] {
+                let attempt = resolve_reference(urdf, dir, root, candidate);
+                if !matches!(attempt, Err(IngestError::MissingReference { .. })) {
+                    return attempt;
+                }
+                first.get_or_insert(attempt);
             }
         }
+        let first = first.unwrap_or_else(|| resolve_reference(urdf, urdf_dir, root, rest));
         return first.map_err(|e| rename_reference(e, filename));
     }
     if let Some(absolute) = filename.strip_prefix("file://") {

@@ -16,6 +16,8 @@ pub(crate) struct Session<'o> {
     pub(crate) root: PathBuf,
     /// Triangles dropped because they had zero area.
     pub(crate) dropped_degenerate: usize,
+    /// What was tolerated (e.g. a missing MTL file), for the report.
+    pub(crate) warnings: Vec<String>,
     digest: ContentDigest,
     triangles: usize,
 }
@@ -31,6 +33,7 @@ impl<'o> Session<'o> {
             options,
             root,
             dropped_degenerate: 0,
+            warnings: Vec::new(),
             digest: ContentDigest::default(),
             triangles: 0,
         })

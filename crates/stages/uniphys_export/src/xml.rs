@@ -75,10 +75,14 @@ fn escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Formats a number for XML and OBJ: at most 10 significant digits, no exponent, no `-0`.
+/// Magnitudes below this are written as 0: transform round-off (1e-14 m, 1e-27 in an axis), not data.
+const SNAP_TO_ZERO: f64 = 1e-12;
+
+/// Formats a number for XML and OBJ: at most 10 significant digits, no exponent, no `-0`, and
+/// round-off below 1e-12 written as 0.
 pub(crate) fn num(x: f64) -> String {
     let rounded: f64 = format!("{x:.9e}").parse().unwrap_or(x);
-    if rounded == 0.0 {
+    if rounded.abs() < SNAP_TO_ZERO {
         "0".to_owned()
     } else {
         format!("{rounded}")
@@ -111,6 +115,7 @@ mod tests {
         assert_eq!(num(0.1 + 0.2), "0.3");
         assert_eq!(num(-0.0), "0");
         assert_eq!(num(1e-7), "0.0000001");
+        assert_eq!(num(4.2e-27), "0");
         assert_eq!(nums(&[1.0, -2.5]), "1 -2.5");
     }
 }

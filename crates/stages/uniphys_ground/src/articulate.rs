@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 use uniphys_geometry::{Aabb, ContactParams, DVec3, TriMesh, contact_region, min_distance_m};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 
-use crate::dynamics::{RigidMass, joint_dynamics};
+use crate::dynamics::{RigidMass, joint_dynamics, max_stable_damping};
 use crate::joint_geometry::{hinge, slide};
 use crate::roles::{Role, role_of};
 use crate::{BUILTIN_PROVIDER, GroundError, GroundResult};
@@ -45,14 +45,24 @@ pub fn articulate(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<A
     if parts.is_empty() {
         return Err(GroundError::NoParts);
     }
-    let (root, mut joints, mut notes) =
-        if declared.is_empty() { heuristic_joints(parts) } else { complete_declared(parts, declared)? };
+    let (root, mut joints, mut notes) = if declared.is_empty() {
+        heuristic_joints(parts)
+    } else {
+        complete_declared(parts, declared)?
+    };
     fill_dynamics_and_groups(parts, &mut joints, &mut notes);
     joints.sort_by_key(|j| j.child);
-    Ok(Articulation { root, joints, notes })
+    Ok(Articulation {
+        root,
+        joints,
+        notes,
+    })
 }
 
-fn complete_declared(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<(PartId, Vec<Joint>, Vec<String>)> {
+fn complete_declared(
+    parts: &[PartInput<'_>],
+    declared: &[Joint],
+) -> GroundResult<(PartId, Vec<Joint>, Vec<String>)> {
     let n = parts.len();
     let mut notes = Vec::new();
     let mut joints: Vec<Joint> = Vec::new();
@@ -60,7 +70,10 @@ fn complete_declared(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResul
     for joint in declared {
         for part in [joint.parent, joint.child] {
             if part.0 as usize >= n {
-                return Err(GroundError::JointReferencesMissingPart { joint: joint.name.clone(), part });
+                return Err(GroundError::JointReferencesMissingPart {
+                    joint: joint.name.clone(),
+                    part,
+                });
             }
         }
         let child = joint.child.0 as usize;
@@ -71,12 +84,25 @@ fn complete_declared(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResul
         let mut joint = joint.clone();
         if joint.kind.needs_limits() && joint.limits.is_none() {
             let limits = if joint.kind == JointKind::Revolute {
-                JointLimits { lower: -std::f64::consts::PI, upper: std::f64::consts::PI }
+                JointLimits {
+                    lower: -std::f64::consts::PI,
+                    upper: std::f64::consts::PI,
+                }
             } else {
-                let extent = parts[child].mesh.bounds().extents().dot(DVec3::from_array(joint.axis_in_object).abs());
-                JointLimits { lower: 0.0, upper: extent.max(1e-3) }
+                let extent = parts[child]
+                    .mesh
+                    .bounds()
+                    .extents()
+                    .dot(DVec3::from_array(joint.axis_in_object).abs());
+                JointLimits {
+                    lower: 0.0,
+                    upper: extent.max(1e-3),
+                }
             };
-            notes.push(format!("joint {:?} had no limits; defaulted to [{:.4}, {:.4}]", joint.name, limits.lower, limits.upper));
+            notes.push(format!(
+                "joint {:?} had no limits; defaulted to [{:.4}, {:.4}]",
+                joint.name, limits.lower, limits.upper
+            ));
             joint.limits = Some(limits);
         }
         joints.push(joint);
@@ -85,10 +111,22 @@ fn complete_declared(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResul
     // others to it (an articulated input made of several disconnected trees).
     let roots: Vec<usize> = (0..n).filter(|&i| !has_parent[i]).collect();
     let subtree_size = |r: usize| descendants(&joints, pid(r)).len();
-    let root = roots.iter().copied().max_by_key(|&r| (subtree_size(r), std::cmp::Reverse(r))).ok_or(GroundError::NoRoot)?;
+    let root = roots
+        .iter()
+        .copied()
+        .max_by_key(|&r| (subtree_size(r), std::cmp::Reverse(r)))
+        .ok_or(GroundError::NoRoot)?;
     for other in roots.into_iter().filter(|&r| r != root) {
-        notes.push(format!("part {:?} was not connected to the root; fixed to it", parts[other].name));
-        joints.push(fixed_joint(pid(root), pid(other), parts[other].mass.com, Provenance::rule("disconnected_part_fixed_to_root")));
+        notes.push(format!(
+            "part {:?} was not connected to the root; fixed to it",
+            parts[other].name
+        ));
+        joints.push(fixed_joint(
+            pid(root),
+            pid(other),
+            parts[other].mass.com,
+            Provenance::rule("disconnected_part_fixed_to_root"),
+        ));
     }
     Ok((pid(root), joints, notes))
 }
@@ -107,35 +145,75 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
     }
     let (root, parents) = crate::tree::build_tree(&roles, &volumes, &|i, j| distance[i][j]);
     let bounds: Vec<Aabb> = parts.iter().map(|p| p.mesh.bounds()).collect();
-    let object_diagonal_m = bounds.iter().fold(Aabb::EMPTY, |a, b| a.union(*b)).diagonal();
+    let object_diagonal_m = bounds
+        .iter()
+        .fold(Aabb::EMPTY, |a, b| a.union(*b))
+        .diagonal();
     let mut notes = Vec::new();
     let mut joints = Vec::new();
     for (i, parent) in parents.iter().enumerate() {
         let Some(p) = *parent else { continue };
-        let provenance = |what: &str| Provenance::provider(BUILTIN_PROVIDER, format!("geometric heuristic: {what}"));
+        let provenance = |what: &str| {
+            Provenance::provider(BUILTIN_PROVIDER, format!("geometric heuristic: {what}"))
+        };
         let joint = match roles[i] {
             Role::Sliding if i != root.0 as usize => {
                 let h = slide(&bounds[i], &bounds[p]);
-                movable_joint(JointKind::Prismatic, pid(p), pid(i), h.axis, h.pivot, (h.lower, h.upper), provenance("slides out of the open side of its parent"))
+                movable_joint(
+                    JointKind::Prismatic,
+                    pid(p),
+                    pid(i),
+                    h.axis,
+                    h.pivot,
+                    (h.lower, h.upper),
+                    provenance("slides out of the open side of its parent"),
+                )
             }
             Role::Hinged if i != root.0 as usize => {
-                let contact = contact_region(parts[i].mesh, parts[p].mesh, object_diagonal_m, &ContactParams::default())
-                    .ok()
-                    .filter(|c| !c.points.is_empty())
-                    .map(|c| c.points.iter().sum::<DVec3>() / c.points.len() as f64);
-                let attachments: Vec<DVec3> =
-                    (0..n).filter(|&k| parent_is(k, i, &roles, &parents)).map(|k| bounds[k].center()).collect();
-                let away_from = (!attachments.is_empty()).then(|| attachments.iter().sum::<DVec3>() / attachments.len() as f64);
+                let contact = contact_region(
+                    parts[i].mesh,
+                    parts[p].mesh,
+                    object_diagonal_m,
+                    &ContactParams::default(),
+                )
+                .ok()
+                .filter(|c| !c.points.is_empty())
+                .map(|c| c.points.iter().sum::<DVec3>() / c.points.len() as f64);
+                let attachments: Vec<DVec3> = (0..n)
+                    .filter(|&k| parent_is(k, i, &roles, &parents))
+                    .map(|k| bounds[k].center())
+                    .collect();
+                let away_from = (!attachments.is_empty())
+                    .then(|| attachments.iter().sum::<DVec3>() / attachments.len() as f64);
                 let h = hinge(&bounds[i], bounds[p].center(), contact, away_from);
-                let why = if away_from.is_some() { "hinge on the edge opposite the handle" } else { "hinge on the edge nearest the contact with the parent" };
-                movable_joint(JointKind::Revolute, pid(p), pid(i), h.axis, h.pivot, (h.lower, h.upper), provenance(why))
+                let why = if away_from.is_some() {
+                    "hinge on the edge opposite the handle"
+                } else {
+                    "hinge on the edge nearest the contact with the parent"
+                };
+                movable_joint(
+                    JointKind::Revolute,
+                    pid(p),
+                    pid(i),
+                    h.axis,
+                    h.pivot,
+                    (h.lower, h.upper),
+                    provenance(why),
+                )
             }
-            _ => fixed_joint(pid(p), pid(i), parts[i].mass.com, provenance("rigidly attached to the nearest part")),
+            _ => fixed_joint(
+                pid(p),
+                pid(i),
+                parts[i].mass.com,
+                provenance("rigidly attached to the nearest part"),
+            ),
         };
         joints.push(joint);
     }
     if joints.iter().all(|j| !j.kind.is_movable()) && n > 1 {
-        notes.push("no part name suggested motion (door, drawer, lid, ...); all parts fixed".to_owned());
+        notes.push(
+            "no part name suggested motion (door, drawer, lid, ...); all parts fixed".to_owned(),
+        );
     }
     (root, joints, notes)
 }
@@ -144,7 +222,15 @@ fn parent_is(k: usize, i: usize, roles: &[Role], parent: &[Option<usize>]) -> bo
     roles[k] == Role::Attachment && parent[k] == Some(i)
 }
 
-fn movable_joint(kind: JointKind, parent: PartId, child: PartId, axis: DVec3, pivot: DVec3, range: (f64, f64), provenance: Provenance) -> Joint {
+fn movable_joint(
+    kind: JointKind,
+    parent: PartId,
+    child: PartId,
+    axis: DVec3,
+    pivot: DVec3,
+    range: (f64, f64),
+    provenance: Provenance,
+) -> Joint {
     Joint {
         name: String::new(),
         kind,
@@ -152,7 +238,10 @@ fn movable_joint(kind: JointKind, parent: PartId, child: PartId, axis: DVec3, pi
         child,
         axis_in_object: axis.normalize().to_array(),
         pivot_in_object_m: pivot.to_array(),
-        limits: Some(JointLimits { lower: range.0, upper: range.1 }),
+        limits: Some(JointLimits {
+            lower: range.0,
+            upper: range.1,
+        }),
         damping: 0.0,
         friction: 0.0,
         coupled_parts: Vec::new(),
@@ -195,7 +284,10 @@ fn fixed_group(joints: &[Joint], part: PartId) -> Vec<PartId> {
     let mut out = BTreeSet::new();
     let mut stack = vec![part];
     while let Some(p) = stack.pop() {
-        for j in joints.iter().filter(|j| j.parent == p && j.kind == JointKind::Fixed) {
+        for j in joints
+            .iter()
+            .filter(|j| j.parent == p && j.kind == JointKind::Fixed)
+        {
             if out.insert(j.child) {
                 stack.push(j.child);
             }
@@ -204,12 +296,20 @@ fn fixed_group(joints: &[Joint], part: PartId) -> Vec<PartId> {
     out.into_iter().collect()
 }
 
-fn fill_dynamics_and_groups(parts: &[PartInput<'_>], joints: &mut [Joint], notes: &mut Vec<String>) {
+fn fill_dynamics_and_groups(
+    parts: &[PartInput<'_>],
+    joints: &mut [Joint],
+    notes: &mut Vec<String>,
+) {
     let snapshot: Vec<Joint> = joints.to_vec();
     let mut used = BTreeSet::new();
     for joint in joints.iter_mut() {
         let base = if joint.name.is_empty() {
-            format!("{}_{}", kind_word(joint.kind), sanitize(parts[joint.child.0 as usize].name))
+            format!(
+                "{}_{}",
+                kind_word(joint.kind),
+                sanitize(parts[joint.child.0 as usize].name)
+            )
         } else {
             sanitize(&joint.name)
         };
@@ -225,16 +325,40 @@ fn fill_dynamics_and_groups(parts: &[PartInput<'_>], joints: &mut [Joint], notes
         }
         joint.coupled_parts = fixed_group(&snapshot, joint.child);
         let mut moving: Vec<RigidMass> = vec![parts[joint.child.0 as usize].mass];
-        moving.extend(descendants(&snapshot, joint.child).iter().map(|p| parts[p.0 as usize].mass));
+        moving.extend(
+            descendants(&snapshot, joint.child)
+                .iter()
+                .map(|p| parts[p.0 as usize].mass),
+        );
         let group = RigidMass::combine(&moving);
         let rotational = joint.kind != JointKind::Prismatic;
-        let (damping, friction) =
-            joint_dynamics(&group, DVec3::from_array(joint.axis_in_object), DVec3::from_array(joint.pivot_in_object_m), rotational);
+        let (damping, friction) = joint_dynamics(
+            &group,
+            DVec3::from_array(joint.axis_in_object),
+            DVec3::from_array(joint.pivot_in_object_m),
+            rotational,
+        );
         if joint.damping <= 0.0 {
             joint.damping = damping;
             if matches!(joint.provenance, Provenance::Input { .. }) {
-                notes.push(format!("joint {:?}: damping from rule joint_dynamics_from_inertia", joint.name));
+                notes.push(format!(
+                    "joint {:?}: damping from rule joint_dynamics_from_inertia",
+                    joint.name
+                ));
             }
+        }
+        let stable = max_stable_damping(
+            &group,
+            DVec3::from_array(joint.axis_in_object),
+            DVec3::from_array(joint.pivot_in_object_m),
+            rotational,
+        );
+        if joint.damping > stable {
+            notes.push(format!(
+                "joint {:?}: damping {:.4} lowered to {:.4} so that inertia/damping stays above {:.4} s",
+                joint.name, joint.damping, stable, crate::dynamics::MIN_DAMPING_TIME_CONSTANT_SECS
+            ));
+            joint.damping = stable;
         }
         if joint.friction <= 0.0 {
             joint.friction = friction;
@@ -254,6 +378,9 @@ fn kind_word(kind: JointKind) -> &'static str {
 /// ASCII letters, digits and `_` only; other characters become `_`.
 #[must_use]
 pub fn sanitize(name: &str) -> String {
-    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '_' }).collect();
+    let s: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
     if s.is_empty() { "part".to_owned() } else { s }
 }

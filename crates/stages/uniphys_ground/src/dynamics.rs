@@ -11,6 +11,10 @@ use uniphys_geometry::{DMat3, DVec3};
 pub const DAMPING_TIME_CONSTANT_SECS: f64 = 1.0;
 /// Dry friction as a fraction of the moving subtree's weight.
 pub const FRICTION_FRACTION_OF_WEIGHT: f64 = 0.01;
+/// Shortest damping time constant (inertia / damping) an exported joint may have: two steps of
+/// PyBullet's default 240 Hz. Explicit integrators blow up when damping removes a body's momentum
+/// in less than a step (a 0.5 N m s/rad damper on a 4e-4 kg m^2 wrist link does).
+pub const MIN_DAMPING_TIME_CONSTANT_SECS: f64 = 2.0 / 240.0;
 const GRAVITY_M_PER_S2: f64 = 9.81;
 
 /// Mass, centre of mass and inertia about the centre of mass of a rigid group, object frame.
@@ -30,11 +34,21 @@ impl RigidMass {
     pub fn combine(items: &[RigidMass]) -> RigidMass {
         let mass_kg: f64 = items.iter().map(|r| r.mass_kg).sum();
         if mass_kg <= 0.0 {
-            return RigidMass { mass_kg: 0.0, com: DVec3::ZERO, inertia_about_com_kg_m2: DMat3::ZERO };
+            return RigidMass {
+                mass_kg: 0.0,
+                com: DVec3::ZERO,
+                inertia_about_com_kg_m2: DMat3::ZERO,
+            };
         }
         let com = items.iter().map(|r| r.com * r.mass_kg).sum::<DVec3>() / mass_kg;
-        let inertia = items.iter().fold(DMat3::ZERO, |acc, r| acc + r.inertia_about_com_kg_m2 + parallel_axis(r.mass_kg, r.com - com));
-        RigidMass { mass_kg, com, inertia_about_com_kg_m2: inertia }
+        let inertia = items.iter().fold(DMat3::ZERO, |acc, r| {
+            acc + r.inertia_about_com_kg_m2 + parallel_axis(r.mass_kg, r.com - com)
+        });
+        RigidMass {
+            mass_kg,
+            com,
+            inertia_about_com_kg_m2: inertia,
+        }
     }
 
     /// Moment of inertia about the line through `pivot` along the unit `axis`.
@@ -54,7 +68,12 @@ pub fn parallel_axis(mass_kg: f64, r: DVec3) -> DMat3 {
 
 /// Damping and dry friction of a joint moving `moving` about/along `axis` through `pivot`.
 #[must_use]
-pub fn joint_dynamics(moving: &RigidMass, axis: DVec3, pivot: DVec3, rotational: bool) -> (f64, f64) {
+pub fn joint_dynamics(
+    moving: &RigidMass,
+    axis: DVec3,
+    pivot: DVec3,
+    rotational: bool,
+) -> (f64, f64) {
     if rotational {
         let lever_m = (moving.com - pivot).reject_from_normalized(axis).length();
         (
@@ -62,8 +81,23 @@ pub fn joint_dynamics(moving: &RigidMass, axis: DVec3, pivot: DVec3, rotational:
             FRICTION_FRACTION_OF_WEIGHT * moving.mass_kg * GRAVITY_M_PER_S2 * lever_m,
         )
     } else {
-        (moving.mass_kg / DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT * moving.mass_kg * GRAVITY_M_PER_S2)
+        (
+            moving.mass_kg / DAMPING_TIME_CONSTANT_SECS,
+            FRICTION_FRACTION_OF_WEIGHT * moving.mass_kg * GRAVITY_M_PER_S2,
+        )
     }
+}
+
+/// The largest damping that keeps the joint's time constant at or above
+/// [`MIN_DAMPING_TIME_CONSTANT_SECS`].
+#[must_use]
+pub fn max_stable_damping(moving: &RigidMass, axis: DVec3, pivot: DVec3, rotational: bool) -> f64 {
+    let inertia = if rotational {
+        moving.moment_about_axis(axis, pivot)
+    } else {
+        moving.mass_kg
+    };
+    inertia / MIN_DAMPING_TIME_CONSTANT_SECS
 }
 
 #[cfg(test)]
@@ -78,7 +112,11 @@ mod tests {
         let slab = RigidMass {
             mass_kg: m,
             com: DVec3::ZERO,
-            inertia_about_com_kg_m2: DMat3::from_diagonal(DVec3::new(0.0, m * w * w / 12.0, m * w * w / 12.0)),
+            inertia_about_com_kg_m2: DMat3::from_diagonal(DVec3::new(
+                0.0,
+                m * w * w / 12.0,
+                m * w * w / 12.0,
+            )),
         };
         let i = slab.moment_about_axis(DVec3::Z, DVec3::new(-0.3, 0.0, 0.0));
         assert!((i - m * w * w / 3.0).abs() < 1e-12);
@@ -89,8 +127,16 @@ mod tests {
 
     #[test]
     fn combining_two_point_masses_uses_the_parallel_axis_theorem() {
-        let a = RigidMass { mass_kg: 1.0, com: DVec3::new(-1.0, 0.0, 0.0), inertia_about_com_kg_m2: DMat3::ZERO };
-        let b = RigidMass { mass_kg: 1.0, com: DVec3::new(1.0, 0.0, 0.0), inertia_about_com_kg_m2: DMat3::ZERO };
+        let a = RigidMass {
+            mass_kg: 1.0,
+            com: DVec3::new(-1.0, 0.0, 0.0),
+            inertia_about_com_kg_m2: DMat3::ZERO,
+        };
+        let b = RigidMass {
+            mass_kg: 1.0,
+            com: DVec3::new(1.0, 0.0, 0.0),
+            inertia_about_com_kg_m2: DMat3::ZERO,
+        };
         let c = RigidMass::combine(&[a, b]);
         assert_eq!(c.com, DVec3::ZERO);
         assert!((c.inertia_about_com_kg_m2.z_axis.z - 2.0).abs() < 1e-12);

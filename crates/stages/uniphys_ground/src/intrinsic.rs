@@ -3,10 +3,13 @@
 //! ratio.
 
 use uniphys_types::units::pa_from_hv;
-use uniphys_types::{Descriptions, Estimate, Material, MaterialCategory, MaterialPrior, PartProperties, PriorRange, Provenance};
+use uniphys_types::{
+    Descriptions, Estimate, Material, MaterialCategory, MaterialPrior, PartProperties, PriorRange,
+    Provenance,
+};
 
-use crate::keywords::{first_match, tokens};
 use crate::BUILTIN_PROVIDER;
+use crate::keywords::{first_match, tokens};
 
 /// Typical values of common subtypes: (keyword, density kg/m^3, Young's modulus GPa, hardness HV,
 /// Poisson's ratio, friction). Handbook values, nudged into the reference prior where they fall
@@ -36,18 +39,21 @@ struct Values {
 
 fn subtype_values(material: &Material) -> Option<(&'static str, Values)> {
     let toks = tokens(&material.subtype);
-    SUBTYPES.iter().find(|row| first_match(&toks, &[row.0]).is_some()).map(|&(k, rho, e_gpa, hv, nu, mu)| {
-        (
-            k,
-            Values {
-                density_kg_per_m3: rho,
-                youngs_modulus_pa: e_gpa * 1e9,
-                hardness_pa: pa_from_hv(hv),
-                poisson_ratio: nu,
-                friction_coefficient: mu,
-            },
-        )
-    })
+    SUBTYPES
+        .iter()
+        .find(|row| first_match(&toks, &[row.0]).is_some())
+        .map(|&(k, rho, e_gpa, hv, nu, mu)| {
+            (
+                k,
+                Values {
+                    density_kg_per_m3: rho,
+                    youngs_modulus_pa: e_gpa * 1e9,
+                    hardness_pa: pa_from_hv(hv),
+                    poisson_ratio: nu,
+                    friction_coefficient: mu,
+                },
+            )
+        })
 }
 
 fn prior_centre_values(prior: &MaterialPrior, category: MaterialCategory) -> Values {
@@ -73,24 +79,52 @@ fn affordance(part_name: &str) -> (u8, bool, Provenance) {
     const MOVING: [&str; 6] = ["door", "drawer", "lid", "cover", "flap", "screen"];
     let toks = tokens(part_name);
     if let Some(k) = first_match(&toks, &GRASP) {
-        return (1, true, Provenance::provider(BUILTIN_PROVIDER, format!("part name suggests {k:?}")));
+        return (
+            1,
+            true,
+            Provenance::provider(BUILTIN_PROVIDER, format!("part name suggests {k:?}")),
+        );
     }
     if let Some(k) = first_match(&toks, &MOVING) {
-        return (2, true, Provenance::provider(BUILTIN_PROVIDER, format!("part name suggests {k:?}")));
+        return (
+            2,
+            true,
+            Provenance::provider(BUILTIN_PROVIDER, format!("part name suggests {k:?}")),
+        );
     }
-    (5, false, Provenance::default_because("no interaction cue in the part name"))
+    (
+        5,
+        false,
+        Provenance::default_because("no interaction cue in the part name"),
+    )
 }
 
 /// The built-in grounder's properties for a part of the given material and name.
-pub(crate) fn part_properties(material: Material, material_provenance: Provenance, part_name: &str) -> PartProperties {
-    let prior = material.category.prior().or(MaterialCategory::Plastic.prior()).expect("plastic has a prior");
+pub(crate) fn part_properties(
+    material: Material,
+    material_provenance: Provenance,
+    part_name: &str,
+) -> PartProperties {
+    let prior = material
+        .category
+        .prior()
+        .or(MaterialCategory::Plastic.prior())
+        .expect("plastic has a prior");
     let (values, source) = match subtype_values(&material) {
         Some((k, v)) => (v, format!("typical values of {k}")),
-        None => (prior_centre_values(&prior, material.category), format!("centre of the {} prior", material.category.as_str())),
+        None => (
+            prior_centre_values(&prior, material.category),
+            format!("centre of the {} prior", material.category.as_str()),
+        ),
     };
     let provenance = Provenance::provider(BUILTIN_PROVIDER, source);
     let est = |value: f64, range: PriorRange| {
-        Estimate::with_range(value.clamp(range.low, range.high), range.low, range.high, provenance.clone())
+        Estimate::with_range(
+            value.clamp(range.low, range.high),
+            range.low,
+            range.high,
+            provenance.clone(),
+        )
     };
     let (rank, graspable, affordance_provenance) = affordance(part_name);
     PartProperties {
@@ -102,7 +136,10 @@ pub(crate) fn part_properties(material: Material, material_provenance: Provenanc
         material: Estimate::new(material, material_provenance),
         affordance_rank: Estimate::new(rank, affordance_provenance.clone()),
         graspable: Estimate::new(graspable, affordance_provenance),
-        descriptions: Descriptions { basic: part_name.replace('_', " "), ..Descriptions::default() },
+        descriptions: Descriptions {
+            basic: part_name.replace('_', " "),
+            ..Descriptions::default()
+        },
     }
 }
 
@@ -113,16 +150,46 @@ mod tests {
     #[test]
     fn every_category_default_lies_in_its_prior_with_a_plausible_hardness_ratio() {
         for category in MaterialCategory::ALL {
-            let p = part_properties(Material { category, subtype: String::new() }, Provenance::rule("test"), "part");
-            let prior = category.prior().or(MaterialCategory::Plastic.prior()).unwrap();
-            assert!(prior.density_kg_per_m3.contains(p.density_kg_per_m3.value), "{category:?}");
-            assert!(prior.youngs_modulus_pa.contains(p.youngs_modulus_pa.value), "{category:?}");
-            assert!(prior.hardness_pa.contains(p.hardness_pa.value), "{category:?}");
-            assert!(prior.poisson_ratio.contains(p.poisson_ratio.value), "{category:?}");
-            assert!(prior.friction_coefficient.contains(p.friction_coefficient.value), "{category:?}");
+            let p = part_properties(
+                Material {
+                    category,
+                    subtype: String::new(),
+                },
+                Provenance::rule("test"),
+                "part",
+            );
+            let prior = category
+                .prior()
+                .or(MaterialCategory::Plastic.prior())
+                .unwrap();
+            assert!(
+                prior.density_kg_per_m3.contains(p.density_kg_per_m3.value),
+                "{category:?}"
+            );
+            assert!(
+                prior.youngs_modulus_pa.contains(p.youngs_modulus_pa.value),
+                "{category:?}"
+            );
+            assert!(
+                prior.hardness_pa.contains(p.hardness_pa.value),
+                "{category:?}"
+            );
+            assert!(
+                prior.poisson_ratio.contains(p.poisson_ratio.value),
+                "{category:?}"
+            );
+            assert!(
+                prior
+                    .friction_coefficient
+                    .contains(p.friction_coefficient.value),
+                "{category:?}"
+            );
             if category.hardness_ratio_applies() {
                 let ratio = p.hardness_pa.value / p.youngs_modulus_pa.value;
-                assert!((1e-3..=1e-1).contains(&ratio), "{category:?}: H/E = {ratio}");
+                assert!(
+                    (1e-3..=1e-1).contains(&ratio),
+                    "{category:?}: H/E = {ratio}"
+                );
             }
         }
     }
@@ -139,13 +206,24 @@ mod tests {
             } else {
                 MaterialCategory::Metal
             };
-            let p = part_properties(Material { category, subtype: k.to_owned() }, Provenance::rule("test"), "x");
+            let p = part_properties(
+                Material {
+                    category,
+                    subtype: k.to_owned(),
+                },
+                Provenance::rule("test"),
+                "x",
+            );
             let prior = category.prior().unwrap();
             assert!(prior.hardness_pa.contains(p.hardness_pa.value), "{k}");
             let ratio = p.hardness_pa.value / p.youngs_modulus_pa.value;
             assert!((1e-3..=1e-1).contains(&ratio), "{k}: {ratio}");
         }
-        let steel = part_properties(Material::parse("metal/steel").unwrap(), Provenance::rule("t"), "door_handle");
+        let steel = part_properties(
+            Material::parse("metal/steel").unwrap(),
+            Provenance::rule("t"),
+            "door_handle",
+        );
         assert!((steel.density_kg_per_m3.value - 7850.0).abs() < 1e-9);
         assert_eq!(steel.affordance_rank.value, 1);
         assert!(steel.graspable.value);

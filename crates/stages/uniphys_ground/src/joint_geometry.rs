@@ -30,7 +30,12 @@ pub(crate) fn slide(child: &Aabb, parent: &Aabb) -> AxisHypothesis {
         .min_by(|a, b| margin(*a).total_cmp(&margin(*b)))
         .unwrap_or(DVec3::NEG_Y);
     let depth = child.extents().dot(axis.abs());
-    AxisHypothesis { axis, pivot: child.center(), lower: 0.0, upper: 0.8 * depth }
+    AxisHypothesis {
+        axis,
+        pivot: child.center(),
+        lower: 0.0,
+        upper: 0.8 * depth,
+    }
 }
 
 /// A hinged part is treated as a slab: its hinge runs along one edge of the slab's face.
@@ -38,10 +43,17 @@ pub(crate) fn slide(child: &Aabb, parent: &Aabb) -> AxisHypothesis {
 /// the one closest to `contact` (the centroid of the contact with the parent). Among edges within
 /// 5 % of the part's size of the best, the longer edge wins. The axis sign makes a positive
 /// angle move the part's centre away from the parent's centre; the range is 0 to 90 degrees.
-pub(crate) fn hinge(child: &Aabb, parent_center: DVec3, contact: Option<DVec3>, away_from: Option<DVec3>) -> AxisHypothesis {
+pub(crate) fn hinge(
+    child: &Aabb,
+    parent_center: DVec3,
+    contact: Option<DVec3>,
+    away_from: Option<DVec3>,
+) -> AxisHypothesis {
     let ext = child.extents();
     let c = child.center();
-    let thin = (0..3).min_by(|&a, &b| ext[a].total_cmp(&ext[b])).unwrap_or(2);
+    let thin = (0..3)
+        .min_by(|&a, &b| ext[a].total_cmp(&ext[b]))
+        .unwrap_or(2);
     let in_plane: Vec<usize> = (0..3).filter(|&k| k != thin).collect();
     // Candidate edges: axis along in_plane[a], line at min or max of the other in-plane axis.
     let mut candidates = Vec::new();
@@ -55,7 +67,8 @@ pub(crate) fn hinge(child: &Aabb, parent_center: DVec3, contact: Option<DVec3>, 
             candidates.push((axis, pivot, ext[along]));
         }
     }
-    let line_distance = |p: DVec3, axis: DVec3, q: DVec3| (q - p).reject_from_normalized(axis).length();
+    let line_distance =
+        |p: DVec3, axis: DVec3, q: DVec3| (q - p).reject_from_normalized(axis).length();
     let score = |&(axis, pivot, _): &(DVec3, DVec3, f64)| match (away_from, contact) {
         (Some(h), _) => -line_distance(pivot, axis, h),
         (None, Some(q)) => line_distance(pivot, axis, q),
@@ -72,8 +85,17 @@ pub(crate) fn hinge(child: &Aabb, parent_center: DVec3, contact: Option<DVec3>, 
     // Positive rotation moves the centre away from the parent.
     let velocity = axis.cross(c - pivot);
     let outward = c - parent_center;
-    let axis = if velocity.dot(outward) < 0.0 { -axis } else { axis };
-    AxisHypothesis { axis, pivot, lower: 0.0, upper: std::f64::consts::FRAC_PI_2 }
+    let axis = if velocity.dot(outward) < 0.0 {
+        -axis
+    } else {
+        axis
+    };
+    AxisHypothesis {
+        axis,
+        pivot,
+        lower: 0.0,
+        upper: std::f64::consts::FRAC_PI_2,
+    }
 }
 
 #[cfg(test)]
@@ -81,7 +103,10 @@ mod tests {
     use super::*;
 
     fn aabb(min: [f64; 3], max: [f64; 3]) -> Aabb {
-        Aabb { min: DVec3::from_array(min), max: DVec3::from_array(max) }
+        Aabb {
+            min: DVec3::from_array(min),
+            max: DVec3::from_array(max),
+        }
     }
 
     #[test]

@@ -29,12 +29,19 @@ pub(crate) fn tokens(text: &str) -> Vec<String> {
 /// Whether a token matches a keyword: exactly for keywords of up to 3 letters, as a prefix for
 /// longer ones (`wooden` matches `wood`, `handles` matches `handle`).
 pub(crate) fn token_matches(token: &str, keyword: &str) -> bool {
-    if keyword.len() <= 3 { token == keyword } else { token.starts_with(keyword) }
+    if keyword.len() <= 3 {
+        token == keyword
+    } else {
+        token.starts_with(keyword)
+    }
 }
 
 /// The first keyword (in list order) that any token matches.
 pub(crate) fn first_match<'k>(tokens: &[String], keywords: &[&'k str]) -> Option<&'k str> {
-    keywords.iter().copied().find(|k| tokens.iter().any(|t| token_matches(t, k)))
+    keywords
+        .iter()
+        .copied()
+        .find(|k| tokens.iter().any(|t| token_matches(t, k)))
 }
 
 #[cfg(test)]

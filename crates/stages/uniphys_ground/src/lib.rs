@@ -20,7 +20,10 @@ mod roles;
 mod tree;
 
 pub use articulate::{Articulation, PartInput, articulate, sanitize};
-pub use dynamics::{DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, RigidMass, joint_dynamics, parallel_axis};
+pub use dynamics::{
+    DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, MIN_DAMPING_TIME_CONSTANT_SECS,
+    RigidMass, joint_dynamics, max_stable_damping, parallel_axis,
+};
 pub use error::{GroundError, GroundResult};
 pub use object::object_properties;
 

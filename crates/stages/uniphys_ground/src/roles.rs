@@ -17,7 +17,9 @@ pub(crate) enum Role {
 }
 
 const SLIDING: [&str; 4] = ["drawer", "tray", "slide", "slider"];
-const HINGED: [&str; 8] = ["door", "lid", "flap", "cover", "hatch", "gate", "shutter", "cap"];
+const HINGED: [&str; 8] = [
+    "door", "lid", "flap", "cover", "hatch", "gate", "shutter", "cap",
+];
 const ATTACHMENT: [&str; 6] = ["handle", "knob", "pull", "grip", "button", "hinge"];
 
 /// The role of a part with this name, and the keyword that decided it.

@@ -11,18 +11,47 @@ use crate::roles::Role;
 /// - Body parts join the tree one at a time, the closest to the tree first (Prim's algorithm),
 ///   fixed to their nearest body already in the tree.
 /// - Sliding and hinged parts hang from their nearest body part.
-/// - Attachments hang from their nearest non-attachment part.
+/// - Attachments hang from their nearest non-attachment part; a body part whose nearest part is a
+///   sliding or hinged one counts as an attachment of it.
 ///
 /// Returns the root and `parent[i]` (`None` for the root). Ties go to the lower part index.
-pub(crate) fn build_tree(roles: &[Role], volumes_m3: &[f64], distance_m: &dyn Fn(usize, usize) -> f64) -> (PartId, Vec<Option<usize>>) {
+pub(crate) fn build_tree(
+    roles: &[Role],
+    volumes_m3: &[f64],
+    distance_m: &dyn Fn(usize, usize) -> f64,
+) -> (PartId, Vec<Option<usize>>) {
     let n = roles.len();
     let largest = |filter: &dyn Fn(usize) -> bool| {
-        (0..n).filter(|&i| filter(i)).fold(None, |best: Option<usize>, i| match best {
-            Some(b) if volumes_m3[b] >= volumes_m3[i] => Some(b),
-            _ => Some(i),
-        })
+        (0..n)
+            .filter(|&i| filter(i))
+            .fold(None, |best: Option<usize>, i| match best {
+                Some(b) if volumes_m3[b] >= volumes_m3[i] => Some(b),
+                _ => Some(i),
+            })
     };
-    let root = largest(&|i| roles[i] == Role::Body).or_else(|| largest(&|_| true)).unwrap_or(0);
+    let root = largest(&|i| roles[i] == Role::Body)
+        .or_else(|| largest(&|_| true))
+        .unwrap_or(0);
+    // A body part whose nearest neighbour is a moving part is a piece of it (a screen on a lid,
+    // a glass pane in a door): it moves with that part.
+    let roles: Vec<Role> = (0..n)
+        .map(|i| {
+            let nearest = (0..n)
+                .filter(|&j| j != i)
+                .min_by(|&a, &b| distance_m(i, a).total_cmp(&distance_m(i, b)));
+            match nearest {
+                Some(j)
+                    if i != root
+                        && roles[i] == Role::Body
+                        && matches!(roles[j], Role::Sliding | Role::Hinged) =>
+                {
+                    Role::Attachment
+                }
+                _ => roles[i],
+            }
+        })
+        .collect();
+    let roles = roles.as_slice();
     let mut parent: Vec<Option<usize>> = vec![None; n];
     let is_body = |i: usize| roles[i] == Role::Body || i == root;
 
@@ -39,19 +68,23 @@ pub(crate) fn build_tree(roles: &[Role], volumes_m3: &[f64], distance_m: &dyn Fn
                 }
             }
         }
-        let Some((_, candidate, anchor)) = best else { break };
+        let Some((_, candidate, anchor)) = best else {
+            break;
+        };
         parent[candidate] = Some(anchor);
         in_tree[candidate] = true;
     }
 
     let nearest = |i: usize, filter: &dyn Fn(usize) -> bool| {
-        (0..n).filter(|&j| j != i && filter(j)).fold(None, |best: Option<(f64, usize)>, j| {
-            let d = distance_m(i, j);
-            match best {
-                Some((bd, _)) if bd <= d => best,
-                _ => Some((d, j)),
-            }
-        })
+        (0..n)
+            .filter(|&j| j != i && filter(j))
+            .fold(None, |best: Option<(f64, usize)>, j| {
+                let d = distance_m(i, j);
+                match best {
+                    Some((bd, _)) if bd <= d => best,
+                    _ => Some((d, j)),
+                }
+            })
     };
     for i in 0..n {
         if i == root || is_body(i) {
@@ -75,13 +108,29 @@ mod tests {
     #[test]
     fn cabinet_like_layout_gets_the_expected_parents() {
         // 0 body, 1 drawer, 2 drawer handle, 3 door, 4 door handle; positions on a line.
-        let roles = [Role::Body, Role::Sliding, Role::Attachment, Role::Hinged, Role::Attachment];
+        let roles = [
+            Role::Body,
+            Role::Sliding,
+            Role::Attachment,
+            Role::Hinged,
+            Role::Attachment,
+        ];
         let volumes = [1.0, 0.1, 0.001, 0.05, 0.001];
         let pos = [0.0, 0.3, 0.35, -0.3, -0.36];
         let d = |i: usize, j: usize| (pos[i] - pos[j] as f64).abs();
         let (root, parent) = build_tree(&roles, &volumes, &d);
         assert_eq!(root, PartId(0));
         assert_eq!(parent, vec![None, Some(0), Some(1), Some(0), Some(3)]);
+    }
+
+    #[test]
+    fn a_body_part_touching_only_a_lid_moves_with_the_lid() {
+        // 0 base, 1 lid, 2 screen glued to the lid.
+        let roles = [Role::Body, Role::Hinged, Role::Body];
+        let pos = [0.0, 0.5, 0.52];
+        let d = |i: usize, j: usize| (pos[i] - pos[j] as f64).abs();
+        let (_, parent) = build_tree(&roles, &[1.0, 0.5, 0.1], &d);
+        assert_eq!(parent, vec![None, Some(0), Some(1)]);
     }
 
     #[test]

@@ -5,10 +5,17 @@ use uniphys_geometry::{MeshAsset, TriMesh};
 /// The linear RGBA colour of the material covering most of the part's triangles, multiplied by the
 /// mean colour of its base-colour texture if it has one; mid grey without materials.
 pub(crate) fn part_color(asset: &MeshAsset, mesh: &TriMesh) -> [f32; 4] {
-    let Some(index) = majority_material(mesh) else { return [0.6, 0.6, 0.6, 1.0] };
-    let Some(material) = asset.materials.get(index as usize) else { return [0.6, 0.6, 0.6, 1.0] };
+    let Some(index) = majority_material(mesh) else {
+        return [0.6, 0.6, 0.6, 1.0];
+    };
+    let Some(material) = asset.materials.get(index as usize) else {
+        return [0.6, 0.6, 0.6, 1.0];
+    };
     let mut rgba = material.base_color_rgba;
-    if let Some(texture) = material.base_color_texture.and_then(|t| asset.textures.get(t)) {
+    if let Some(texture) = material
+        .base_color_texture
+        .and_then(|t| asset.textures.get(t))
+    {
         let pixels = texture.rgba8.chunks_exact(4);
         let n = pixels.len().max(1) as f32;
         let mut sum = [0.0f32; 3];
@@ -26,7 +33,9 @@ pub(crate) fn part_color(asset: &MeshAsset, mesh: &TriMesh) -> [f32; 4] {
 
 /// Material indices of the part, most triangles first (ties: lower index first).
 pub(crate) fn materials_by_coverage(mesh: &TriMesh) -> Vec<u32> {
-    let Some(materials) = &mesh.face_materials else { return Vec::new() };
+    let Some(materials) = &mesh.face_materials else {
+        return Vec::new();
+    };
     let mut counts: Vec<(u32, usize)> = Vec::new();
     for &m in materials {
         match counts.iter_mut().find(|(k, _)| *k == m) {
@@ -44,5 +53,9 @@ fn majority_material(mesh: &TriMesh) -> Option<u32> {
 
 fn srgb_to_linear(c: u8) -> f32 {
     let c = f32::from(c) / 255.0;
-    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }

@@ -1,12 +1,14 @@
 //! A scoped parallel map over a slice on all available cores, keeping input order.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Applies `f` to every item on up to `available_parallelism` threads; results keep input order.
 /// Items are handed out one at a time, so uneven work (one huge part) balances itself.
 pub(crate) fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(usize, &T) -> R + Sync) -> Vec<R> {
-    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get).min(items.len().max(1));
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(items.len().max(1));
     if threads <= 1 {
         return items.iter().enumerate().map(|(i, t)| f(i, t)).collect();
     }
@@ -42,7 +44,10 @@ mod tests {
     fn results_keep_input_order() {
         let items: Vec<u64> = (0..100).collect();
         let out = par_map(&items, |i, x| (i as u64) * 1000 + x * x);
-        assert_eq!(out, items.iter().map(|x| x * 1000 + x * x).collect::<Vec<_>>());
+        assert_eq!(
+            out,
+            items.iter().map(|x| x * 1000 + x * x).collect::<Vec<_>>()
+        );
         assert!(par_map(&[] as &[u8], |_, _| 0).is_empty());
     }
 }

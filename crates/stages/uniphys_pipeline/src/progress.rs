@@ -17,7 +17,13 @@ pub enum Stage {
 
 impl Stage {
     /// All stages in run order.
-    pub const ALL: [Stage; 5] = [Stage::Ingest, Stage::Prepare, Stage::Ground, Stage::Colliders, Stage::Export];
+    pub const ALL: [Stage; 5] = [
+        Stage::Ingest,
+        Stage::Prepare,
+        Stage::Ground,
+        Stage::Colliders,
+        Stage::Export,
+    ];
 
     /// Lower-case name.
     #[must_use]

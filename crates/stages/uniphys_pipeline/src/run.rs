@@ -5,14 +5,14 @@ use std::time::{Duration, Instant};
 
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
-    ConvexParams, DMat4, DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod, convex_decomposition, min_distance_m,
-    solid_mass_properties,
+    ConvexParams, DMat4, DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod,
+    convex_decomposition, min_distance_m, solid_mass_properties,
 };
 use uniphys_ground::{PartInput, RigidMass, articulate, ground_part, object_properties, sanitize};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{
-    AssetRecord, CheckOutcome, CheckResult, Estimate, PartId, PartMass, PartRecord, Provenance, ReportSection, SCHEMA_VERSION,
-    VerificationReport,
+    AssetRecord, CheckOutcome, CheckResult, Estimate, PartId, PartMass, PartRecord, Provenance,
+    ReportSection, SCHEMA_VERSION, VerificationReport,
 };
 
 use crate::colors::{materials_by_coverage, part_color};
@@ -34,7 +34,12 @@ pub struct RunOptions {
 
 impl Default for RunOptions {
     fn default() -> Self {
-        Self { ingest: IngestOptions::default(), voxel_resolution: 128, convex: ConvexParams::default(), touching_fraction: 0.005 }
+        Self {
+            ingest: IngestOptions::default(),
+            voxel_resolution: 128,
+            convex: ConvexParams::default(),
+            touching_fraction: 0.005,
+        }
     }
 }
 
@@ -57,7 +62,11 @@ struct Clock<'a> {
 }
 
 impl Clock<'_> {
-    fn stage<T>(&mut self, stage: Stage, f: impl FnOnce() -> PipelineResult<(T, String)>) -> PipelineResult<T> {
+    fn stage<T>(
+        &mut self,
+        stage: Stage,
+        f: impl FnOnce() -> PipelineResult<(T, String)>,
+    ) -> PipelineResult<T> {
         self.progress.stage_started(stage);
         let start = Instant::now();
         let (value, summary) = f()?;
@@ -75,11 +84,18 @@ struct Prepared {
 }
 
 /// Runs ingest, prepare, ground, colliders and export on the asset at `path`.
-pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> PipelineResult<RunOutput> {
-    let mut clock = Clock { progress, timings: Vec::new() };
+pub fn run(
+    path: &Path,
+    options: &RunOptions,
+    progress: &dyn Progress,
+) -> PipelineResult<RunOutput> {
+    let mut clock = Clock {
+        progress,
+        timings: Vec::new(),
+    };
     let name = asset_name(path);
 
-    let (mut asset, source, dropped) = clock.stage(Stage::Ingest, || {
+    let (mut asset, source, dropped, ingest_warnings) = clock.stage(Stage::Ingest, || {
         let loaded = load_asset(path, &options.ingest)?;
         let summary = format!(
             "{} parts, {} triangles, {} joints declared",
@@ -87,17 +103,30 @@ pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> Pipeli
             loaded.asset.triangle_count(),
             loaded.asset.joints.len()
         );
-        Ok(((loaded.asset, loaded.source, loaded.dropped_degenerate_triangles), summary))
+        Ok((
+            (
+                loaded.asset,
+                loaded.source,
+                loaded.dropped_degenerate_triangles,
+                loaded.warnings,
+            ),
+            summary,
+        ))
     })?;
     let mut notes = Vec::new();
     if dropped > 0 {
-        notes.push(format!("{dropped} zero-area triangles were dropped at ingest"));
+        notes.push(format!(
+            "{dropped} zero-area triangles were dropped at ingest"
+        ));
     }
 
     let prepared = clock.stage(Stage::Prepare, || {
         asset.parts.retain(|p| p.mesh.triangle_count() > 0);
         if asset.parts.is_empty() {
-            return Err(PipelineError::Empty(format!("{} has no part with triangles", path.display())));
+            return Err(PipelineError::Empty(format!(
+                "{} has no part with triangles",
+                path.display()
+            )));
         }
         let offset = rest_on_ground(&mut asset);
         notes.push(format!(
@@ -108,18 +137,30 @@ pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> Pipeli
         let prepared: Vec<PipelineResult<Prepared>> = par_map(&asset.parts, |i, part| {
             progress.stage_advanced(Stage::Prepare, i + 1, total);
             let (mass, method) = solid_mass_properties(&part.mesh, options.voxel_resolution)
-                .map_err(|source| PipelineError::Geometry { part: part.name.clone(), source })?;
+                .map_err(|source| PipelineError::Geometry {
+                    part: part.name.clone(),
+                    source,
+                })?;
             Ok(Prepared { mass, method })
         });
         let prepared: Vec<Prepared> = prepared.into_iter().collect::<PipelineResult<_>>()?;
-        let closed = prepared.iter().filter(|p| p.method == VolumeMethod::ClosedMesh).count();
-        Ok((prepared, format!("{closed} of {total} parts closed (exact mass properties), others voxelised")))
+        let closed = prepared
+            .iter()
+            .filter(|p| p.method == VolumeMethod::ClosedMesh)
+            .count();
+        Ok((
+            prepared,
+            format!("{closed} of {total} parts closed (exact mass properties), others voxelised"),
+        ))
     })?;
 
     let (record, articulation_notes) = clock.stage(Stage::Ground, || {
         let (record, notes) = ground(&name, source, &asset, &prepared)?;
         let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
-        let summary = format!("{} movable joints, object mass {:.3} kg ({})", movable, record.object.mass_kg.value, record.object.category.value);
+        let summary = format!(
+            "{} movable joints, object mass {:.3} kg ({})",
+            movable, record.object.mass_kg.value, record.object.category.value
+        );
         Ok(((record, notes), summary))
     })?;
     notes.extend(articulation_notes);
@@ -127,8 +168,12 @@ pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> Pipeli
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
         let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |i, part| {
-            let hulls = convex_decomposition(&part.mesh, &options.convex)
-                .map_err(|source| PipelineError::Geometry { part: part.name.clone(), source });
+            let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
+                PipelineError::Geometry {
+                    part: part.name.clone(),
+                    source,
+                }
+            });
             progress.stage_advanced(Stage::Colliders, i + 1, total);
             hulls
         });
@@ -139,10 +184,16 @@ pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> Pipeli
 
     let (artifacts, report) = clock.stage(Stage::Export, || {
         let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
-        let colors: Vec<[f32; 4]> = asset.parts.iter().map(|p| part_color(&asset, &p.mesh)).collect();
+        let colors: Vec<[f32; 4]> = asset
+            .parts
+            .iter()
+            .map(|p| part_color(&asset, &p.mesh))
+            .collect();
         let touching = touching_pairs(&asset, options.touching_fraction);
         let mut report = VerificationReport::default();
-        report.sections.push(ingest_section(dropped));
+        report
+            .sections
+            .push(ingest_section(dropped, &ingest_warnings));
         let out = export(&ExportInput {
             record: &record,
             part_meshes: &meshes,
@@ -157,14 +208,27 @@ pub fn run(path: &Path, options: &RunOptions, progress: &dyn Progress) -> Pipeli
         Ok(((out.artifacts, out.report), summary))
     })?;
 
-    Ok(RunOutput { record, artifacts, report, timings: clock.timings })
+    Ok(RunOutput {
+        record,
+        artifacts,
+        report,
+        timings: clock.timings,
+    })
 }
 
 /// The asset name: the input's file stem (or folder name), made ASCII-safe.
 #[must_use]
 pub fn asset_name(path: &Path) -> String {
-    let stem = if path.is_dir() { path.file_name() } else { path.file_stem() };
-    sanitize(&stem.map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "asset".to_owned()))
+    let stem = if path.is_dir() {
+        path.file_name()
+    } else {
+        path.file_stem()
+    };
+    sanitize(
+        &stem
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "asset".to_owned()),
+    )
 }
 
 /// Moves the asset so it rests on z = 0, centred in x and y; returns the translation.
@@ -176,7 +240,12 @@ fn rest_on_ground(asset: &mut MeshAsset) -> DVec3 {
     offset
 }
 
-fn ground(name: &str, source: uniphys_types::SourceInfo, asset: &MeshAsset, prepared: &[Prepared]) -> PipelineResult<(AssetRecord, Vec<String>)> {
+fn ground(
+    name: &str,
+    source: uniphys_types::SourceInfo,
+    asset: &MeshAsset,
+    prepared: &[Prepared],
+) -> PipelineResult<(AssetRecord, Vec<String>)> {
     let mut parts = Vec::with_capacity(asset.parts.len());
     let mut rigid = Vec::with_capacity(asset.parts.len());
     for (i, (part, prep)) in asset.parts.iter().zip(prepared).enumerate() {
@@ -188,7 +257,11 @@ fn ground(name: &str, source: uniphys_types::SourceInfo, asset: &MeshAsset, prep
         let density = properties.density_kg_per_m3.value;
         let mass_kg = prep.mass.mass_kg(density);
         let inertia = prep.mass.inertia_kg_m2(density);
-        rigid.push(RigidMass { mass_kg, com: prep.mass.com, inertia_about_com_kg_m2: inertia });
+        rigid.push(RigidMass {
+            mass_kg,
+            com: prep.mass.com,
+            inertia_about_com_kg_m2: inertia,
+        });
         let bounds = part.mesh.bounds();
         parts.push(PartRecord {
             id: PartId(u32::try_from(i).unwrap_or(u32::MAX)),
@@ -210,12 +283,22 @@ fn ground(name: &str, source: uniphys_types::SourceInfo, asset: &MeshAsset, prep
         .iter()
         .zip(prepared)
         .zip(&rigid)
-        .map(|((part, prep), mass)| PartInput { name: &part.name, mesh: &part.mesh, volume_m3: prep.mass.volume_m3, mass: *mass })
+        .map(|((part, prep), mass)| PartInput {
+            name: &part.name,
+            mesh: &part.mesh,
+            volume_m3: prep.mass.volume_m3,
+            mass: *mass,
+        })
         .collect();
     let articulation = articulate(&inputs, &asset.joints)?;
     let part_names: Vec<&str> = asset.parts.iter().map(|p| p.name.as_str()).collect();
     let masses: Vec<f64> = rigid.iter().map(|r| r.mass_kg).collect();
-    let object = object_properties(name, &part_names, asset.bounds().extents().to_array(), &masses);
+    let object = object_properties(
+        name,
+        &part_names,
+        asset.bounds().extents().to_array(),
+        &masses,
+    );
     let record = AssetRecord {
         schema_version: SCHEMA_VERSION,
         name: name.to_owned(),
@@ -232,20 +315,44 @@ fn ground(name: &str, source: uniphys_types::SourceInfo, asset: &MeshAsset, prep
 fn touching_pairs(asset: &MeshAsset, fraction: f64) -> Vec<(PartId, PartId)> {
     let threshold = fraction * asset.bounds().diagonal();
     let n = asset.parts.len();
-    let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| ((i + 1)..n).map(move |j| (i, j))).collect();
-    let close = par_map(&pairs, |_, &(i, j)| min_distance_m(&asset.parts[i].mesh, &asset.parts[j].mesh) <= threshold);
+    let pairs: Vec<(usize, usize)> = (0..n)
+        .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
+        .collect();
+    let close = par_map(&pairs, |_, &(i, j)| {
+        min_distance_m(&asset.parts[i].mesh, &asset.parts[j].mesh) <= threshold
+    });
     let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
-    pairs.into_iter().zip(close).filter(|(_, c)| *c).map(|((i, j), _)| (id(i), id(j))).collect()
+    pairs
+        .into_iter()
+        .zip(close)
+        .filter(|(_, c)| *c)
+        .map(|((i, j), _)| (id(i), id(j)))
+        .collect()
 }
 
-fn ingest_section(dropped: usize) -> ReportSection {
+fn ingest_section(dropped: usize, warnings: &[String]) -> ReportSection {
+    let mut checks = vec![CheckResult {
+        check: "degenerate_triangles".into(),
+        subject: "object".into(),
+        outcome: if dropped == 0 {
+            CheckOutcome::Pass
+        } else {
+            CheckOutcome::Warn
+        },
+        message: if dropped == 0 {
+            "none".into()
+        } else {
+            format!("{dropped} zero-area triangles dropped")
+        },
+    }];
+    checks.extend(warnings.iter().map(|w| CheckResult {
+        check: "referenced_files".into(),
+        subject: "object".into(),
+        outcome: CheckOutcome::Warn,
+        message: w.clone(),
+    }));
     ReportSection {
         name: "ingest".into(),
-        checks: vec![CheckResult {
-            check: "degenerate_triangles".into(),
-            subject: "object".into(),
-            outcome: if dropped == 0 { CheckOutcome::Pass } else { CheckOutcome::Warn },
-            message: if dropped == 0 { "none".into() } else { format!("{dropped} zero-area triangles dropped") },
-        }],
+        checks,
     }
 }

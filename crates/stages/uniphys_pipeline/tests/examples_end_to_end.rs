@@ -15,47 +15,102 @@ fn every_example_runs_and_the_heuristic_finds_its_joints() {
     for example in catalogue() {
         let path = dir.path().join(format!("{}.glb", example.name));
         std::fs::write(&path, write_glb(&example.asset, GlbFrame::YUp).unwrap()).unwrap();
-        let out = run(&path, &RunOptions::default(), &NoProgress).unwrap_or_else(|e| panic!("{}: {e}", example.name));
+        let out = run(&path, &RunOptions::default(), &NoProgress)
+            .unwrap_or_else(|e| panic!("{}: {e}", example.name));
         let record = &out.record;
-        assert_eq!(record.parts.len(), example.asset.parts.len(), "{}", example.name);
-        let failures: Vec<String> = out.report.failures().map(|c| format!("{} {}: {}", c.subject, c.check, c.message)).collect();
+        assert_eq!(
+            record.parts.len(),
+            example.asset.parts.len(),
+            "{}",
+            example.name
+        );
+        let failures: Vec<String> = out
+            .report
+            .failures()
+            .map(|c| format!("{} {}: {}", c.subject, c.check, c.message))
+            .collect();
         assert!(failures.is_empty(), "{}: {failures:?}", example.name);
 
         // The pipeline rests the object on z = 0, centred in x and y: move the ground truth the same way.
         let b = example.asset.bounds();
         let offset = DVec3::new(-b.center().x, -b.center().y, -b.min.z);
         for expected in &example.expected_joints {
-            let child = record.parts.iter().find(|p| p.name == expected.child).unwrap_or_else(|| panic!("{}: no part {}", example.name, expected.child));
-            let joint = record.joints.iter().find(|j| j.child == child.id).unwrap_or_else(|| panic!("{}: {} has no joint", example.name, expected.child));
+            let child = record
+                .parts
+                .iter()
+                .find(|p| p.name == expected.child)
+                .unwrap_or_else(|| panic!("{}: no part {}", example.name, expected.child));
+            let joint = record
+                .joints
+                .iter()
+                .find(|j| j.child == child.id)
+                .unwrap_or_else(|| panic!("{}: {} has no joint", example.name, expected.child));
             let parent = record.part(joint.parent).unwrap();
-            assert_eq!(parent.name, expected.parent, "{}: parent of {}", example.name, expected.child);
-            assert_eq!(joint.kind, expected.kind, "{}: kind of {}", example.name, expected.child);
+            assert_eq!(
+                parent.name, expected.parent,
+                "{}: parent of {}",
+                example.name, expected.child
+            );
+            assert_eq!(
+                joint.kind, expected.kind,
+                "{}: kind of {}",
+                example.name, expected.child
+            );
             if expected.kind == JointKind::Fixed {
                 continue;
             }
             let axis = DVec3::from_array(joint.axis_in_object);
             let gt_axis = DVec3::from_array(expected.axis).normalize();
             let error_deg = axis.dot(gt_axis).clamp(-1.0, 1.0).acos().to_degrees();
-            assert!(error_deg < MAX_AXIS_ERROR_DEG, "{}: axis of {} off by {error_deg:.1} deg ({axis} vs {gt_axis})", example.name, expected.child);
+            assert!(
+                error_deg < MAX_AXIS_ERROR_DEG,
+                "{}: axis of {} off by {error_deg:.1} deg ({axis} vs {gt_axis})",
+                example.name,
+                expected.child
+            );
             if expected.kind == JointKind::Revolute {
                 let pivot = DVec3::from_array(joint.pivot_in_object_m);
                 let gt_pivot = DVec3::from_array(expected.pivot) + offset;
                 let distance = (pivot - gt_pivot).reject_from_normalized(gt_axis).length();
-                assert!(distance < MAX_PIVOT_ERROR_M, "{}: pivot of {} is {distance:.3} m from the hinge line", example.name, expected.child);
+                assert!(
+                    distance < MAX_PIVOT_ERROR_M,
+                    "{}: pivot of {} is {distance:.3} m from the hinge line",
+                    example.name,
+                    expected.child
+                );
             }
         }
         // Stage timings are reported for every stage, in order.
         let stages: Vec<&str> = out.timings.iter().map(|(s, _)| s.name()).collect();
-        assert_eq!(stages, ["ingest", "prepare", "ground", "colliders", "export"]);
+        assert_eq!(
+            stages,
+            ["ingest", "prepare", "ground", "colliders", "export"]
+        );
         let paths: Vec<&str> = out.artifacts.iter().map(|a| a.path.as_str()).collect();
-        for required in ["model.urdf", "model.xml", "record.json", "report.json", "annotations/object.json", "meta_data.json"] {
-            assert!(paths.contains(&required), "{}: missing {required}", example.name);
+        for required in [
+            "model.urdf",
+            "model.xml",
+            "record.json",
+            "report.json",
+            "annotations/object.json",
+            "meta_data.json",
+        ] {
+            assert!(
+                paths.contains(&required),
+                "{}: missing {required}",
+                example.name
+            );
         }
     }
 }
 
 #[test]
 fn a_missing_input_is_an_ingest_error_that_names_the_file() {
-    let err = run(std::path::Path::new("/nonexistent/chair.glb"), &RunOptions::default(), &NoProgress).unwrap_err();
+    let err = run(
+        std::path::Path::new("/nonexistent/chair.glb"),
+        &RunOptions::default(),
+        &NoProgress,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("chair.glb"), "{err}");
 }

@@ -80,7 +80,11 @@ pub fn metres_per_unit(unit: &str) -> anyhow::Result<f64> {
         "mm" => 0.001,
         "in" | "inch" | "inches" => 0.0254,
         "ft" | "foot" | "feet" => 0.3048,
-        other => other.parse::<f64>().map_err(|_| anyhow::anyhow!("unknown unit {unit:?}: use m, cm, mm, in, ft, or a number of metres per unit"))?,
+        other => other.parse::<f64>().map_err(|_| {
+            anyhow::anyhow!(
+                "unknown unit {unit:?}: use m, cm, mm, in, ft, or a number of metres per unit"
+            )
+        })?,
     };
     if !(value.is_finite() && value > 0.0) {
         anyhow::bail!("unit {unit:?} must give a positive number of metres per unit");

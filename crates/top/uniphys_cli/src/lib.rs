@@ -18,10 +18,17 @@ use std::process::ExitCode;
 pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Run(args) => run_cmd::run(&args),
-        Command::Measure { mesh, voxel_resolution } => measure_cmd::measure(&mesh, voxel_resolution),
+        Command::Measure {
+            mesh,
+            voxel_resolution,
+        } => measure_cmd::measure(&mesh, voxel_resolution),
         Command::Examples { out } => {
-            let written = uniphys_examples::write_catalogue(&out)
-                .map_err(|e| anyhow::anyhow!("failed to write the example assets to {}: {e}", out.display()))?;
+            let written = uniphys_examples::write_catalogue(&out).map_err(|e| {
+                anyhow::anyhow!(
+                    "failed to write the example assets to {}: {e}",
+                    out.display()
+                )
+            })?;
             for path in written {
                 println!("{}", path.display());
             }

@@ -16,7 +16,10 @@ fn mass_json(m: &MassProperties) -> Value {
 
 pub(crate) fn measure(mesh: &Path, voxel_resolution: usize) -> anyhow::Result<ExitCode> {
     // Measure in the file's own coordinates so results compare with other tools reading the file.
-    let options = IngestOptions { up_axis: Some(UpAxis::Z), ..IngestOptions::default() };
+    let options = IngestOptions {
+        up_axis: Some(UpAxis::Z),
+        ..IngestOptions::default()
+    };
     let loaded = load_asset(mesh, &options)?;
     let mut parts = Vec::new();
     for part in &loaded.asset.parts {
@@ -38,6 +41,9 @@ pub(crate) fn measure(mesh: &Path, voxel_resolution: usize) -> anyhow::Result<Ex
             "voxel_ms": voxel_ms,
         }));
     }
-    println!("{}", json!({ "file": mesh, "voxel_resolution": voxel_resolution, "parts": parts }));
+    println!(
+        "{}",
+        json!({ "file": mesh, "voxel_resolution": voxel_resolution, "parts": parts })
+    );
     Ok(ExitCode::SUCCESS)
 }

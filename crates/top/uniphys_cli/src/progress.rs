@@ -10,25 +10,40 @@ pub(crate) struct StderrProgress {
 
 impl StderrProgress {
     pub(crate) fn new() -> Self {
-        Self { live: std::io::stderr().is_terminal() }
+        Self {
+            live: std::io::stderr().is_terminal(),
+        }
     }
 }
 
 fn position(stage: Stage) -> usize {
-    Stage::ALL.iter().position(|s| *s == stage).map_or(0, |i| i + 1)
+    Stage::ALL
+        .iter()
+        .position(|s| *s == stage)
+        .map_or(0, |i| i + 1)
 }
 
 impl Progress for StderrProgress {
     fn stage_started(&self, stage: Stage) {
         if self.live {
-            eprint!("[{}/{}] {} ...", position(stage), Stage::ALL.len(), stage.name());
+            eprint!(
+                "[{}/{}] {} ...",
+                position(stage),
+                Stage::ALL.len(),
+                stage.name()
+            );
             let _ = std::io::stderr().flush();
         }
     }
 
     fn stage_advanced(&self, stage: Stage, done: usize, total: usize) {
         if self.live {
-            eprint!("\r[{}/{}] {} ... {done}/{total}", position(stage), Stage::ALL.len(), stage.name());
+            eprint!(
+                "\r[{}/{}] {} ... {done}/{total}",
+                position(stage),
+                Stage::ALL.len(),
+                stage.name()
+            );
             let _ = std::io::stderr().flush();
         }
     }
@@ -37,6 +52,12 @@ impl Progress for StderrProgress {
         if self.live {
             eprint!("\r\x1b[2K");
         }
-        eprintln!("[{}/{}] {:<9} {:>9.1} ms  {summary}", position(stage), Stage::ALL.len(), stage.name(), elapsed.as_secs_f64() * 1e3);
+        eprintln!(
+            "[{}/{}] {:<9} {:>9.1} ms  {summary}",
+            position(stage),
+            Stage::ALL.len(),
+            stage.name(),
+            elapsed.as_secs_f64() * 1e3
+        );
     }
 }

@@ -28,7 +28,9 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
 
     let store = ArtifactStore::local(&args.out)?;
-    let runtime = tokio::runtime::Builder::new_current_thread().build().context("failed to start the IO runtime")?;
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .build()
+        .context("failed to start the IO runtime")?;
     runtime.block_on(async {
         for artifact in &output.artifacts {
             store.put(&artifact.path, artifact.bytes.clone()).await?;
@@ -43,8 +45,16 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         .filter(|j| j.kind.is_movable())
         .map(|j| format!("{} ({:?})", j.name, j.kind).to_lowercase())
         .collect();
-    let failures: Vec<String> = output.report.failures().map(|c| format!("{} {}: {}", c.subject, c.check, c.message)).collect();
-    let total_ms: f64 = output.timings.iter().map(|(_, d)| d.as_secs_f64() * 1e3).sum();
+    let failures: Vec<String> = output
+        .report
+        .failures()
+        .map(|c| format!("{} {}: {}", c.subject, c.check, c.message))
+        .collect();
+    let total_ms: f64 = output
+        .timings
+        .iter()
+        .map(|(_, d)| d.as_secs_f64() * 1e3)
+        .sum();
     if args.json {
         let summary = serde_json::json!({
             "asset": record.name,
@@ -59,7 +69,13 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         });
         println!("{summary}");
     } else {
-        println!("{}: {} parts, {} movable joints [{}]", record.name, record.parts.len(), movable.len(), movable.join(", "));
+        println!(
+            "{}: {} parts, {} movable joints [{}]",
+            record.name,
+            record.parts.len(),
+            movable.len(),
+            movable.join(", ")
+        );
         println!(
             "object: {} ({}), {:.3} kg, {:.3} x {:.3} x {:.3} m",
             record.object.name.value,
@@ -69,7 +85,11 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             record.object.dimensions_m.value[1],
             record.object.dimensions_m.value[2]
         );
-        println!("wrote {} files to {} in {total_ms:.0} ms (model.urdf, model.xml, report.json, annotations/)", output.artifacts.len(), args.out.display());
+        println!(
+            "wrote {} files to {} in {total_ms:.0} ms (model.urdf, model.xml, report.json, annotations/)",
+            output.artifacts.len(),
+            args.out.display()
+        );
         if failures.is_empty() {
             println!("all checks passed");
         } else {
@@ -79,5 +99,9 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    Ok(if failures.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if failures.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
