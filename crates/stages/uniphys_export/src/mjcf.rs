@@ -7,7 +7,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::MESH_DIR;
 use crate::model::{Link, Model};
-use crate::xml::{Element, num, nums};
+use crate::xml::{Element, coords, num, nums, rgba};
 
 /// Armature as seconds times damping: reflected inertia of 10 % of the damping time constant,
 /// which stabilises light joints at the 2 ms time step.
@@ -57,11 +57,10 @@ pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
     );
     let mut asset = Element::new("asset");
     for link in &model.links {
-        let rgba: Vec<f64> = link.rgba.iter().map(|&c| f64::from(c)).collect();
         asset.push(
             Element::new("material")
                 .attr("name", format!("{}_material", link.name))
-                .attr("rgba", nums(&rgba)),
+                .attr("rgba", rgba(link.rgba)),
         );
         asset.push(
             Element::new("mesh")
@@ -102,11 +101,11 @@ fn body(model: &Model<'_>, index: usize, joint: Option<&Joint>) -> Element {
     let pos = joint.map_or(link.anchor, |j| model.joint_origin(j));
     let mut el = Element::new("body")
         .attr("name", link.name.clone())
-        .attr("pos", nums(&pos.to_array()));
+        .attr("pos", coords(&pos.to_array()));
     let i = link.inertia_kg_m2;
     el.push(
         Element::new("inertial")
-            .attr("pos", nums(&link.com_in_link.to_array()))
+            .attr("pos", coords(&link.com_in_link.to_array()))
             .attr("mass", num(link.mass_kg))
             .attr(
                 "fullinertia",
@@ -125,7 +124,7 @@ fn body(model: &Model<'_>, index: usize, joint: Option<&Joint>) -> Element {
             .attr("name", j.name.clone())
             .attr("type", kind)
             .attr("pos", "0 0 0")
-            .attr("axis", nums(&j.axis_in_object));
+            .attr("axis", coords(&j.axis_in_object));
         if let Some(l) = j.limits.filter(|_| j.kind.needs_limits()) {
             je = je.attr("range", nums(&[l.lower, l.upper]));
         }

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use uniphys_geometry::{DVec3, TriMesh};
 
-use crate::xml::num;
+use crate::xml::{coord, short_f32};
 
 /// Writes `mesh` translated by `-origin` (i.e. into a frame located at `origin`).
 /// With `mtl = Some((library, material))` the file references that material.
@@ -16,7 +16,7 @@ pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3, mtl: Option<(&str, &str)>
     }
     for p in &mesh.positions {
         let q = *p - origin;
-        let _ = writeln!(s, "v {} {} {}", num(q.x), num(q.y), num(q.z));
+        let _ = writeln!(s, "v {} {} {}", coord(q.x), coord(q.y), coord(q.z));
     }
     for t in &mesh.triangles {
         let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
@@ -25,15 +25,9 @@ pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3, mtl: Option<(&str, &str)>
 }
 
 /// A one-material MTL file with a diffuse colour.
-pub(crate) fn write_mtl(material: &str, rgba: [f32; 4]) -> Vec<u8> {
-    format!(
-        "# written by uniphys\nnewmtl {material}\nKd {} {} {}\nd {}\n",
-        num(f64::from(rgba[0])),
-        num(f64::from(rgba[1])),
-        num(f64::from(rgba[2])),
-        num(f64::from(rgba[3]))
-    )
-    .into_bytes()
+pub(crate) fn write_mtl(material: &str, color: [f32; 4]) -> Vec<u8> {
+    let [r, g, b, a] = color.map(short_f32);
+    format!("# written by uniphys\nnewmtl {material}\nKd {r} {g} {b}\nd {a}\n").into_bytes()
 }
 
 #[cfg(test)]

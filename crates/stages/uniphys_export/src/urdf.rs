@@ -7,7 +7,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::MESH_DIR;
 use crate::model::{Link, Model};
-use crate::xml::{Element, num, nums};
+use crate::xml::{Element, coords, num, rgba};
 
 /// Effort and velocity limits written on every movable joint (URDF requires them; passive
 /// assets have no actuators, so they are generous bounds, not actuator specs).
@@ -39,7 +39,7 @@ pub(crate) fn write_urdf(model: &Model<'_>) -> String {
             .child(Element::new("child").attr("link", root.name.clone()))
             .child(
                 Element::new("origin")
-                    .attr("xyz", nums(&root.anchor.to_array()))
+                    .attr("xyz", coords(&root.anchor.to_array()))
                     .attr("rpy", "0 0 0"),
             ),
     );
@@ -54,7 +54,7 @@ fn link_element(link: &Link) -> Element {
     let inertial = Element::new("inertial")
         .child(
             Element::new("origin")
-                .attr("xyz", nums(&link.com_in_link.to_array()))
+                .attr("xyz", coords(&link.com_in_link.to_array()))
                 .attr("rpy", "0 0 0"),
         )
         .child(Element::new("mass").attr("value", num(link.mass_kg)))
@@ -67,7 +67,6 @@ fn link_element(link: &Link) -> Element {
                 .attr("iyz", num(i.z_axis.y))
                 .attr("izz", num(i.z_axis.z)),
         );
-    let rgba: Vec<f64> = link.rgba.iter().map(|&c| f64::from(c)).collect();
     let mut el = Element::new("link")
         .attr("name", link.name.clone())
         .child(inertial)
@@ -78,7 +77,7 @@ fn link_element(link: &Link) -> Element {
                 .child(
                     Element::new("material")
                         .attr("name", format!("{}_material", link.name))
-                        .child(Element::new("color").attr("rgba", nums(&rgba))),
+                        .child(Element::new("color").attr("rgba", rgba(link.rgba))),
                 ),
         );
     for stem in &link.collision_stems {
@@ -119,11 +118,11 @@ fn joint_element(model: &Model<'_>, joint: &Joint) -> Element {
         .child(Element::new("child").attr("link", model.link(joint.child).name.clone()))
         .child(
             Element::new("origin")
-                .attr("xyz", nums(&model.joint_origin(joint).to_array()))
+                .attr("xyz", coords(&model.joint_origin(joint).to_array()))
                 .attr("rpy", "0 0 0"),
         );
     if joint.kind.is_movable() {
-        el.push(Element::new("axis").attr("xyz", nums(&joint.axis_in_object)));
+        el.push(Element::new("axis").attr("xyz", coords(&joint.axis_in_object)));
         let mut limit = Element::new("limit");
         if let Some(l) = joint.limits.filter(|_| joint.kind.needs_limits()) {
             limit = limit

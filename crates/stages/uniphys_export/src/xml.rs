@@ -75,17 +75,46 @@ fn escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Magnitudes below this are written as 0: transform round-off (1e-14 m, 1e-27 in an axis), not data.
-const SNAP_TO_ZERO: f64 = 1e-12;
+/// Coordinates below this magnitude are written as 0: transform round-off (1e-14 m, 1e-27 in an
+/// axis), not data. Masses and inertias are never snapped: a 1 mm part has an inertia of 1e-13.
+const SNAP_TO_ZERO_M: f64 = 1e-12;
 
-/// Formats a number for XML and OBJ: at most 10 significant digits, no exponent, no `-0`, and
-/// round-off below 1e-12 written as 0.
+/// Formats a number for XML and OBJ: at most 10 significant digits, no exponent, no `-0`.
 pub(crate) fn num(x: f64) -> String {
     let rounded: f64 = format!("{x:.9e}").parse().unwrap_or(x);
-    if rounded.abs() < SNAP_TO_ZERO {
+    if rounded == 0.0 {
         "0".to_owned()
     } else {
         format!("{rounded}")
+    }
+}
+
+/// Formats a coordinate or direction component: like [`num`], with round-off snapped to 0.
+pub(crate) fn coord(x: f64) -> String {
+    if x.abs() < SNAP_TO_ZERO_M {
+        "0".to_owned()
+    } else {
+        num(x)
+    }
+}
+
+/// Space-separated coordinates (see [`coord`]).
+pub(crate) fn coords(xs: &[f64]) -> String {
+    xs.iter().map(|&x| coord(x)).collect::<Vec<_>>().join(" ")
+}
+
+/// A colour as four space-separated numbers, each in its shortest `f32` form (`0.48`, not
+/// `0.4799999893`).
+pub(crate) fn rgba(c: [f32; 4]) -> String {
+    c.map(short_f32).join(" ")
+}
+
+/// An `f32` in its shortest form, `0` for either zero.
+pub(crate) fn short_f32(v: f32) -> String {
+    if v == 0.0 {
+        "0".to_owned()
+    } else {
+        format!("{v}")
     }
 }
 
@@ -115,7 +144,10 @@ mod tests {
         assert_eq!(num(0.1 + 0.2), "0.3");
         assert_eq!(num(-0.0), "0");
         assert_eq!(num(1e-7), "0.0000001");
-        assert_eq!(num(4.2e-27), "0");
+        assert_eq!(coord(4.2e-27), "0");
+        assert_eq!(num(2e-13), "0.0000000000002");
+        assert_eq!(coords(&[1e-14, 0.5]), "0 0.5");
         assert_eq!(nums(&[1.0, -2.5]), "1 -2.5");
+        assert_eq!(rgba([0.48, 0.26, -0.0, 1.0]), "0.48 0.26 0 1");
     }
 }

@@ -1,4 +1,5 @@
 //! Export of a hand-built two-part asset (a base block and a hinged door), parsed back.
+#![expect(clippy::unwrap_used, reason = "test fixtures fail loudly on purpose")]
 
 use uniphys_export::{ExportInput, export};
 use uniphys_geometry::{DVec3, TriMesh};

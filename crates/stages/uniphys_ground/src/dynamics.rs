@@ -126,6 +126,22 @@ mod tests {
     }
 
     #[test]
+    fn stable_damping_keeps_two_pybullet_steps_of_time_constant() {
+        // A light wrist link: I = 4e-4 kg m^2 about its axis through the centre of mass.
+        let link = RigidMass {
+            mass_kg: 0.36,
+            com: DVec3::ZERO,
+            inertia_about_com_kg_m2: DMat3::from_diagonal(DVec3::splat(4e-4)),
+        };
+        let max = max_stable_damping(&link, DVec3::Z, DVec3::ZERO, true);
+        assert!((max - 4e-4 * 120.0).abs() < 1e-12);
+        assert!(max < 0.5, "the input's 0.5 N m s/rad must be lowered");
+        assert!(
+            (max_stable_damping(&link, DVec3::Z, DVec3::ZERO, false) - 0.36 * 120.0).abs() < 1e-9
+        );
+    }
+
+    #[test]
     fn combining_two_point_masses_uses_the_parallel_axis_theorem() {
         let a = RigidMass {
             mass_kg: 1.0,

@@ -116,8 +116,8 @@ mod tests {
             Role::Attachment,
         ];
         let volumes = [1.0, 0.1, 0.001, 0.05, 0.001];
-        let pos = [0.0, 0.3, 0.35, -0.3, -0.36];
-        let d = |i: usize, j: usize| (pos[i] - pos[j] as f64).abs();
+        let pos: [f64; 5] = [0.0, 0.3, 0.35, -0.3, -0.36];
+        let d = |i: usize, j: usize| (pos[i] - pos[j]).abs();
         let (root, parent) = build_tree(&roles, &volumes, &d);
         assert_eq!(root, PartId(0));
         assert_eq!(parent, vec![None, Some(0), Some(1), Some(0), Some(3)]);
@@ -127,8 +127,8 @@ mod tests {
     fn a_body_part_touching_only_a_lid_moves_with_the_lid() {
         // 0 base, 1 lid, 2 screen glued to the lid.
         let roles = [Role::Body, Role::Hinged, Role::Body];
-        let pos = [0.0, 0.5, 0.52];
-        let d = |i: usize, j: usize| (pos[i] - pos[j] as f64).abs();
+        let pos: [f64; 3] = [0.0, 0.5, 0.52];
+        let d = |i: usize, j: usize| (pos[i] - pos[j]).abs();
         let (_, parent) = build_tree(&roles, &[1.0, 0.5, 0.1], &d);
         assert_eq!(parent, vec![None, Some(0), Some(1)]);
     }
