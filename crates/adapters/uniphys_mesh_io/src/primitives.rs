@@ -12,37 +12,7 @@ pub(crate) const STACKS: usize = 16;
 
 /// An axis-aligned box with the given side lengths.
 pub(crate) fn box_mesh(size: DVec3) -> TriMesh {
-    let h = 0.5 * size;
-    let p = |x: f64, y: f64, z: f64| DVec3::new(x * h.x, y * h.y, z * h.z);
-    let positions = vec![
-        p(-1.0, -1.0, -1.0),
-        p(1.0, -1.0, -1.0),
-        p(1.0, 1.0, -1.0),
-        p(-1.0, 1.0, -1.0),
-        p(-1.0, -1.0, 1.0),
-        p(1.0, -1.0, 1.0),
-        p(1.0, 1.0, 1.0),
-        p(-1.0, 1.0, 1.0),
-    ];
-    let triangles = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [3, 7, 6],
-        [3, 6, 2],
-        [0, 4, 7],
-        [0, 7, 3],
-        [1, 2, 6],
-        [1, 6, 5],
-    ];
-    TriMesh {
-        positions,
-        triangles,
-        ..TriMesh::default()
-    }
+    TriMesh::cuboid(-0.5 * size, 0.5 * size)
 }
 
 /// A cylinder of the given radius and length along Z.

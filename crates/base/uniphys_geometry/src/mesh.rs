@@ -35,6 +35,45 @@ impl TriMesh {
         Ok(mesh)
     }
 
+    /// The closed axis-aligned box between the corners `min` and `max` (finite, `min < max`), with
+    /// outward winding.
+    #[must_use]
+    pub fn cuboid(min: DVec3, max: DVec3) -> Self {
+        let corner = |x: usize, y: usize, z: usize| {
+            DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
+        };
+        let positions = vec![
+            corner(0, 0, 0),
+            corner(1, 0, 0),
+            corner(1, 1, 0),
+            corner(0, 1, 0),
+            corner(0, 0, 1),
+            corner(1, 0, 1),
+            corner(1, 1, 1),
+            corner(0, 1, 1),
+        ];
+        // Two triangles per face: -z, +z, -y, +y, -x, +x.
+        let triangles = vec![
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [3, 7, 6],
+            [3, 6, 2],
+            [0, 4, 7],
+            [0, 7, 3],
+            [1, 2, 6],
+            [1, 6, 5],
+        ];
+        Self {
+            positions,
+            triangles,
+            ..Self::default()
+        }
+    }
+
     /// Attaches per-vertex texture coordinates.
     pub fn with_uvs(mut self, uvs: Vec<[f32; 2]>) -> GeometryResult<Self> {
         check_len("uvs", uvs.len(), self.positions.len())?;
@@ -308,34 +347,7 @@ pub(crate) mod tests {
 
     /// An axis-aligned closed box with outward winding, for tests.
     pub(crate) fn unit_box(min: DVec3, max: DVec3) -> TriMesh {
-        let p = |x: usize, y: usize, z: usize| {
-            DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
-        };
-        let positions = vec![
-            p(0, 0, 0),
-            p(1, 0, 0),
-            p(1, 1, 0),
-            p(0, 1, 0),
-            p(0, 0, 1),
-            p(1, 0, 1),
-            p(1, 1, 1),
-            p(0, 1, 1),
-        ];
-        let triangles = vec![
-            [0, 2, 1],
-            [0, 3, 2], // -z
-            [4, 5, 6],
-            [4, 6, 7], // +z
-            [0, 1, 5],
-            [0, 5, 4], // -y
-            [3, 7, 6],
-            [3, 6, 2], // +y
-            [0, 4, 7],
-            [0, 7, 3], // -x
-            [1, 2, 6],
-            [1, 6, 5], // +x
-        ];
-        TriMesh::new(positions, triangles).unwrap()
+        TriMesh::cuboid(min, max)
     }
 
     #[test]

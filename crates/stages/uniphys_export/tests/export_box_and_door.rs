@@ -10,34 +10,7 @@ use uniphys_types::{
 };
 
 fn block(min: DVec3, max: DVec3) -> TriMesh {
-    let p = |x: usize, y: usize, z: usize| {
-        DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
-    };
-    let positions = vec![
-        p(0, 0, 0),
-        p(1, 0, 0),
-        p(1, 1, 0),
-        p(0, 1, 0),
-        p(0, 0, 1),
-        p(1, 0, 1),
-        p(1, 1, 1),
-        p(0, 1, 1),
-    ];
-    let triangles = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [3, 7, 6],
-        [3, 6, 2],
-        [0, 4, 7],
-        [0, 7, 3],
-        [1, 2, 6],
-        [1, 6, 5],
-    ];
-    TriMesh::new(positions, triangles).unwrap()
+    TriMesh::cuboid(min, max)
 }
 
 fn props(material: &str) -> PartProperties {

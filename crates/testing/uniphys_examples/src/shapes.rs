@@ -9,34 +9,7 @@ use uniphys_geometry::{DMat4, DVec3, TriMesh};
 /// The axis-aligned box between the corners `min` and `max`.
 #[must_use]
 pub fn cuboid(min: DVec3, max: DVec3) -> TriMesh {
-    let corner = |x: usize, y: usize, z: usize| {
-        DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
-    };
-    let positions = vec![
-        corner(0, 0, 0),
-        corner(1, 0, 0),
-        corner(1, 1, 0),
-        corner(0, 1, 0),
-        corner(0, 0, 1),
-        corner(1, 0, 1),
-        corner(1, 1, 1),
-        corner(0, 1, 1),
-    ];
-    let triangles = vec![
-        [0, 2, 1],
-        [0, 3, 2], // -z
-        [4, 5, 6],
-        [4, 6, 7], // +z
-        [0, 1, 5],
-        [0, 5, 4], // -y
-        [3, 7, 6],
-        [3, 6, 2], // +y
-        [0, 4, 7],
-        [0, 7, 3], // -x
-        [1, 2, 6],
-        [1, 6, 5], // +x
-    ];
-    mesh(positions, triangles)
+    TriMesh::cuboid(min, max)
 }
 
 /// A box between `min` and `max` hollowed out from the top: a floor and four walls, all `wall`
