@@ -13,6 +13,20 @@ pub use args::{Cli, Command};
 
 use std::process::ExitCode;
 
+/// One line for an error and its causes, leaving out causes the message already quotes (the
+/// library errors name their cause inline).
+#[must_use]
+pub fn error_message(error: &anyhow::Error) -> String {
+    let mut message = error.to_string();
+    for cause in error.chain().skip(1) {
+        let cause = cause.to_string();
+        if !message.contains(&cause) {
+            message = format!("{message}: {cause}");
+        }
+    }
+    message
+}
+
 /// Runs a parsed command line; the exit code is 0 on success, 1 if the asset was exported but
 /// failed checks.
 pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {

@@ -9,7 +9,7 @@ fn main() -> ExitCode {
     match uniphys_cli::execute(cli) {
         Ok(code) => code,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            eprintln!("error: {}", uniphys_cli::error_message(&error));
             ExitCode::from(2)
         }
     }
