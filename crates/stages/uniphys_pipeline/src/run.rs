@@ -1,6 +1,7 @@
 //! `run`: the whole pipeline on one asset, in process, with the built-in grounder.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use uniphys_export::{Artifact, ExportInput, export};
@@ -134,14 +135,17 @@ pub fn run(
             offset.x, offset.y, offset.z
         ));
         let total = asset.parts.len();
-        let prepared: Vec<PipelineResult<Prepared>> = par_map(&asset.parts, |i, part| {
-            progress.stage_advanced(Stage::Prepare, i + 1, total);
-            let (mass, method) = solid_mass_properties(&part.mesh, options.voxel_resolution)
+        let done = AtomicUsize::new(0);
+        let prepared: Vec<PipelineResult<Prepared>> = par_map(&asset.parts, |_, part| {
+            let result = solid_mass_properties(&part.mesh, options.voxel_resolution)
+                .map(|(mass, method)| Prepared { mass, method })
                 .map_err(|source| PipelineError::Geometry {
                     part: part.name.clone(),
                     source,
-                })?;
-            Ok(Prepared { mass, method })
+                });
+            let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress.stage_advanced(Stage::Prepare, finished, total);
+            result
         });
         let prepared: Vec<Prepared> = prepared.into_iter().collect::<PipelineResult<_>>()?;
         let closed = prepared
@@ -167,14 +171,16 @@ pub fn run(
 
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
-        let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |i, part| {
+        let done = AtomicUsize::new(0);
+        let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |_, part| {
             let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
                 PipelineError::Geometry {
                     part: part.name.clone(),
                     source,
                 }
             });
-            progress.stage_advanced(Stage::Colliders, i + 1, total);
+            let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress.stage_advanced(Stage::Colliders, finished, total);
             hulls
         });
         let hulls: Vec<Vec<TriMesh>> = hulls.into_iter().collect::<PipelineResult<_>>()?;
