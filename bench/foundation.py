@@ -43,6 +43,11 @@ def main():
         tris = sum(p["triangle_count"] for p in record["parts"])
         print(f"| {glb.stem} | {tris} | " + " | ".join(f"{med[s]:.1f}" for s in STAGES) + f" | {sum(med.values()):.1f} |")
         parts += sorted((work / glb.stem / "parts").glob("part_*.obj"))
+    # A dense closed mesh, to see how both scale with triangles (the examples are small).
+    sphere = work / "sphere" / "parts" / "icosphere_82k.obj"
+    sphere.parent.mkdir(parents=True)
+    trimesh.creation.icosphere(subdivisions=6, radius=0.2).export(str(sphere))
+    parts.append(sphere)
 
     print()
     print(f"# voxel volume at pitch = longest side / 128, median of {REPEATS} (ms); ratio = trimesh / ours")

@@ -199,11 +199,10 @@ fn signed_volume(mesh: &TriMesh) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use std::time::Instant;
 
     use super::*;
     use crate::MassProperties;
-    use crate::test_shapes::{bumpy_sphere, l_prism, two_boxes, unit_box};
+    use crate::test_shapes::{l_prism, two_boxes, unit_box};
 
     fn volumes(hulls: &[TriMesh]) -> Vec<f64> {
         hulls
@@ -291,23 +290,4 @@ mod tests {
         ));
     }
 
-    /// Run with `cargo test -p uniphys_geometry --release -- --ignored --nocapture`.
-    #[test]
-    #[ignore = "timing; meaningful in release builds only"]
-    fn convex_decomposition_of_a_20k_triangle_mesh_takes_seconds_at_most() {
-        let mesh = bumpy_sphere(5);
-        let start = Instant::now();
-        let hulls = convex_decomposition(&mesh, &ConvexParams::default()).unwrap();
-        let seconds = start.elapsed().as_secs_f64();
-        let total: f64 = hulls.iter().map(signed_volume).sum();
-        let hull = signed_volume(&convex_hull(&mesh.positions).unwrap());
-        println!(
-            "convex_decomposition of {} triangles: {seconds:.3} s, {} hulls, hull volume \
-             {total:.4}, solid {:.4}, single hull {hull:.4}",
-            mesh.triangle_count(),
-            hulls.len(),
-            signed_volume(&mesh),
-        );
-        assert!(seconds < 10.0 && hulls.len() <= 16, "{seconds} s");
-    }
 }

@@ -129,14 +129,3 @@ fn shapes_have_their_documented_volumes() {
     assert_eq!(open_box().triangle_count(), 10);
     assert!(!open_box().is_closed());
 }
-
-/// An icosphere of radius 1 with a wavy radius 1 + 0.6 sin(4x) sin(4y) sin(4z): closed,
-/// star-shaped and clearly non-convex.
-pub(crate) fn bumpy_sphere(subdivisions: u32) -> TriMesh {
-    let mut mesh = icosphere(1.0, subdivisions);
-    for p in &mut mesh.positions {
-        let r = 1.0 + 0.6 * (4.0 * p.x).sin() * (4.0 * p.y).sin() * (4.0 * p.z).sin();
-        *p *= r;
-    }
-    mesh
-}

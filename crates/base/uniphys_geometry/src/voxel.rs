@@ -245,10 +245,9 @@ impl VoxelGrid {
 
 #[cfg(test)]
 mod tests {
-    use std::time::Instant;
 
     use super::*;
-    use crate::test_shapes::{bumpy_sphere, icosphere, open_box, unit_box};
+    use crate::test_shapes::{icosphere, open_box, unit_box};
 
     #[test]
     fn unit_cube_at_resolution_three_has_one_interior_voxel() {
@@ -338,25 +337,4 @@ mod tests {
         );
     }
 
-    /// Run with `cargo test -p uniphys_geometry --release -- --ignored --nocapture`.
-    #[test]
-    #[ignore = "timing; meaningful in release builds only"]
-    fn voxelize_128_of_an_82k_triangle_mesh_takes_well_under_a_second() {
-        let mesh = bumpy_sphere(6);
-        let start = Instant::now();
-        let grid = voxelize(&mesh, 128).unwrap();
-        let voxelize_s = start.elapsed().as_secs_f64();
-        let m = grid.mass_properties();
-        let total_s = start.elapsed().as_secs_f64();
-        println!(
-            "voxelize(128) of {} triangles: {voxelize_s:.3} s (+ mass properties {:.3} s), \
-             {} filled voxels, volume {:.4} vs exact {:.4}",
-            mesh.triangle_count(),
-            total_s - voxelize_s,
-            grid.filled_count(),
-            m.volume_m3,
-            MassProperties::from_closed_mesh(&mesh).unwrap().volume_m3
-        );
-        assert!(voxelize_s < 0.5, "{voxelize_s} s");
-    }
 }
