@@ -109,7 +109,18 @@ pub(crate) fn resolve_urdf_reference(
     if let Some(absolute) = filename.strip_prefix("file://") {
         return resolve_absolute(urdf, root, filename, absolute);
     }
-    resolve_reference(urdf, urdf_dir, root, filename)
+    // Plain relative names: next to the URDF, then (as PyBullet's search path does for its data
+    // folder) relative to the URDF's parent directory, which is still inside `root`.
+    let first = resolve_reference(urdf, urdf_dir, root, filename);
+    if let (Err(IngestError::MissingReference { .. }), Some(parent)) =
+        (&first, urdf_dir.parent().filter(|p| p.starts_with(root)))
+    {
+        let second = resolve_reference(urdf, parent, root, filename);
+        if !matches!(second, Err(IngestError::MissingReference { .. })) {
+            return second;
+        }
+    }
+    first
 }
 
 /// Whether a reference is an absolute path on any platform (`/x`, `C:/x`, `//server/x`).
@@ -224,6 +235,20 @@ mod tests {
         let msg = err.to_string();
         assert!(matches!(err, IngestError::MissingReference { .. }));
         assert!(msg.contains("a.obj") && msg.contains("nope.mtl"), "{msg}");
+    }
+
+    #[test]
+    fn plain_names_fall_back_to_the_parent_directory_but_not_beyond_the_root() {
+        let (_d, root) = setup();
+        let urdf_dir = root.join("asset/sub");
+        let urdf = urdf_dir.join("r.urdf");
+        // `sub/tex.png` written relative to the data folder, as PyBullet's search path allows.
+        let got = resolve_urdf_reference(&urdf, &urdf_dir, &root.join("asset"), "sub/tex.png")
+            .expect("found in parent");
+        assert_eq!(got, root.join("asset/sub/tex.png"));
+        let err = resolve_urdf_reference(&urdf, &urdf_dir, &root.join("asset/sub"), "sub/tex.png")
+            .expect_err("the parent is outside this root");
+        assert!(matches!(err, IngestError::MissingReference { .. }), "{err}");
     }
 
     #[test]

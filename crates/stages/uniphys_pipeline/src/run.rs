@@ -122,10 +122,12 @@ pub fn run(
     }
 
     let prepared = clock.stage(Stage::Prepare, || {
-        asset.parts.retain(|p| p.mesh.triangle_count() > 0);
-        if asset.parts.is_empty() {
+        // Joints refer to parts by index, so parts are never dropped here; ingest only
+        // produces parts that have triangles.
+        if let Some(empty) = asset.parts.iter().find(|p| p.mesh.triangle_count() == 0) {
             return Err(PipelineError::Empty(format!(
-                "{} has no part with triangles",
+                "part {:?} of {} has no triangles",
+                empty.name,
                 path.display()
             )));
         }
