@@ -50,7 +50,7 @@ pub fn articulate(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<A
     } else {
         complete_declared(parts, declared)?
     };
-    fill_dynamics_and_groups(parts, &mut joints, &mut notes);
+    finish_joints(parts, &mut joints, &mut notes);
     joints.sort_by_key(|j| j.child);
     Ok(Articulation {
         root,
@@ -157,7 +157,7 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
             Provenance::provider(BUILTIN_PROVIDER, format!("geometric heuristic: {what}"))
         };
         let joint = match roles[i] {
-            Role::Sliding if i != root.0 as usize => {
+            Role::Sliding => {
                 let h = slide(&bounds[i], &bounds[p]);
                 movable_joint(
                     JointKind::Prismatic,
@@ -169,7 +169,7 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
                     provenance("slides out of the open side of its parent"),
                 )
             }
-            Role::Hinged if i != root.0 as usize => {
+            Role::Hinged => {
                 let contact = contact_region(
                     parts[i].mesh,
                     parts[p].mesh,
@@ -267,10 +267,22 @@ fn fixed_joint(parent: PartId, child: PartId, anchor: DVec3, provenance: Provena
 
 /// All parts below `part` in the joint tree, sorted.
 fn descendants(joints: &[Joint], part: PartId) -> BTreeSet<PartId> {
+    reachable(joints, part, |_| true)
+}
+
+/// The parts fixed (transitively, through fixed joints only) to `part`, sorted.
+fn fixed_group(joints: &[Joint], part: PartId) -> Vec<PartId> {
+    reachable(joints, part, |j| j.kind == JointKind::Fixed)
+        .into_iter()
+        .collect()
+}
+
+/// Parts reached from `part` by going down joints that satisfy `through`.
+fn reachable(joints: &[Joint], part: PartId, through: impl Fn(&Joint) -> bool) -> BTreeSet<PartId> {
     let mut out = BTreeSet::new();
     let mut stack = vec![part];
     while let Some(p) = stack.pop() {
-        for j in joints.iter().filter(|j| j.parent == p) {
+        for j in joints.iter().filter(|j| j.parent == p && through(j)) {
             if out.insert(j.child) {
                 stack.push(j.child);
             }
@@ -279,28 +291,8 @@ fn descendants(joints: &[Joint], part: PartId) -> BTreeSet<PartId> {
     out
 }
 
-/// The parts fixed (transitively, through fixed joints only) to `part`.
-fn fixed_group(joints: &[Joint], part: PartId) -> Vec<PartId> {
-    let mut out = BTreeSet::new();
-    let mut stack = vec![part];
-    while let Some(p) = stack.pop() {
-        for j in joints
-            .iter()
-            .filter(|j| j.parent == p && j.kind == JointKind::Fixed)
-        {
-            if out.insert(j.child) {
-                stack.push(j.child);
-            }
-        }
-    }
-    out.into_iter().collect()
-}
-
-fn fill_dynamics_and_groups(
-    parts: &[PartInput<'_>],
-    joints: &mut [Joint],
-    notes: &mut Vec<String>,
-) {
+/// Names every joint uniquely, fills motion-coupled groups and passive dynamics.
+fn finish_joints(parts: &[PartInput<'_>], joints: &mut [Joint], notes: &mut Vec<String>) {
     let snapshot: Vec<Joint> = joints.to_vec();
     let mut used = BTreeSet::new();
     for joint in joints.iter_mut() {
