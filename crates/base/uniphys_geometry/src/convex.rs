@@ -289,5 +289,4 @@ mod tests {
             Err(GeometryError::InvalidParameter(_))
         ));
     }
-
 }

@@ -336,5 +336,4 @@ mod tests {
             Err(GeometryError::Degenerate)
         );
     }
-
 }
