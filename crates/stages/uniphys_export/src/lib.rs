@@ -6,7 +6,7 @@
 //! | `model.xml` | MJCF for MuJoCo |
 //! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame |
 //! | `meshes/part_<id>_collision_<k>.obj` | convex collision hulls, in the link frame |
-//! | `parts/part_<id>.obj` (+ `.mtl`) | part meshes in the object frame (UniPhys-40K layout) |
+//! | `parts/part_<id>.obj`, `.mtl`, `texture_<t>.png` | part meshes in the object frame with UVs, materials and textures (UniPhys-40K layout) |
 //! | `annotations/object.json`, `annotations/part_<id>.json`, `meta_data.json` | UniPhys-40K record |
 //! | `record.json` | the full [`AssetRecord`] with provenance, SI units |
 //! | `report.json` | provenance of every value, checks, notes |
@@ -20,6 +20,7 @@ mod error;
 mod mjcf;
 mod model;
 mod obj_writer;
+mod part_files;
 mod record;
 mod report;
 mod urdf;
@@ -29,7 +30,7 @@ pub use artifact::Artifact;
 pub use error::{ExportError, ExportResult};
 pub use record::RECORD_TYPE_NAME;
 
-use uniphys_geometry::{DVec3, TriMesh};
+use uniphys_geometry::{SurfaceMaterial, Texture, TriMesh};
 use uniphys_types::{AssetRecord, CheckOutcome, PartId, VerificationReport};
 
 /// Directory of the link meshes, relative to the model files.
@@ -46,6 +47,10 @@ pub struct ExportInput<'a> {
     pub colliders: &'a [Vec<TriMesh>],
     /// Display colour of each part, linear RGBA.
     pub part_colors: &'a [[f32; 4]],
+    /// Materials the part meshes' face material indices refer to.
+    pub materials: &'a [SurfaceMaterial],
+    /// Textures the materials refer to.
+    pub textures: &'a [Texture],
     /// Pairs of parts that touch at rest; those not joined directly get MJCF contact excludes.
     pub touching_pairs: &'a [(PartId, PartId)],
     /// Checks from earlier stages, included in `report.json`.
@@ -74,29 +79,26 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
     for (i, link) in model.links.iter().enumerate() {
         artifacts.push(Artifact::new(
             format!("{MESH_DIR}/{}.obj", link.visual_stem),
-            obj_writer::write_obj(&input.part_meshes[i], link.anchor, None),
+            obj_writer::write_obj(&input.part_meshes[i], link.anchor),
         ));
         for (hull, stem) in input.colliders[i].iter().zip(&link.collision_stems) {
             artifacts.push(Artifact::new(
                 format!("{MESH_DIR}/{stem}.obj"),
-                obj_writer::write_obj(hull, link.anchor, None),
+                obj_writer::write_obj(hull, link.anchor),
             ));
         }
-        let id = link.id;
-        let material = format!("{id}_material");
-        artifacts.push(Artifact::new(
-            format!("parts/{id}.obj"),
-            obj_writer::write_obj(
-                &input.part_meshes[i],
-                DVec3::ZERO,
-                Some((&format!("{id}.mtl"), &material)),
-            ),
-        ));
-        artifacts.push(Artifact::new(
-            format!("parts/{id}.mtl"),
-            obj_writer::write_mtl(&material, link.rgba),
+        artifacts.extend(part_files::part_files(
+            link.id,
+            &input.part_meshes[i],
+            input.materials,
+            link.rgba,
         ));
     }
+    artifacts.extend(part_files::texture_files(
+        input.part_meshes,
+        input.materials,
+        input.textures,
+    )?);
     let mut report = input.report.clone();
     let intrinsic = checks::intrinsic_checks(record);
     let part_passed = |id: PartId| {

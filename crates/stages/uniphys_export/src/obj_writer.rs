@@ -1,19 +1,17 @@
-//! Wavefront OBJ output: one object per file, no groups (MuJoCo wants one mesh per file).
+//! Wavefront OBJ output of link meshes: one object per file, no groups and no materials (MuJoCo
+//! wants one mesh per file; the model files carry the colour).
 
 use std::fmt::Write as _;
 
 use uniphys_geometry::{DVec3, TriMesh};
 
-use crate::xml::{coord, short_f32};
+use crate::xml::coord;
 
-/// Writes `mesh` translated by `-origin` (i.e. into a frame located at `origin`).
-/// With `mtl = Some((library, material))` the file references that material.
-pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3, mtl: Option<(&str, &str)>) -> Vec<u8> {
+/// Writes `mesh` translated by `-origin` (i.e. into a frame located at `origin`), positions and
+/// faces only: simulators take the colour from the model file.
+pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3) -> Vec<u8> {
     let mut s = String::with_capacity(mesh.positions.len() * 32 + mesh.triangles.len() * 24);
     s.push_str("# written by uniphys\n");
-    if let Some((library, material)) = mtl {
-        let _ = writeln!(s, "mtllib {library}\nusemtl {material}");
-    }
     for p in &mesh.positions {
         let q = *p - origin;
         let _ = writeln!(s, "v {} {} {}", coord(q.x), coord(q.y), coord(q.z));
@@ -24,12 +22,6 @@ pub(crate) fn write_obj(mesh: &TriMesh, origin: DVec3, mtl: Option<(&str, &str)>
     s.into_bytes()
 }
 
-/// A one-material MTL file with a diffuse colour.
-pub(crate) fn write_mtl(material: &str, color: [f32; 4]) -> Vec<u8> {
-    let [r, g, b, a] = color.map(short_f32);
-    format!("# written by uniphys\nnewmtl {material}\nKd {r} {g} {b}\nd {a}\n").into_bytes()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -37,13 +29,8 @@ mod tests {
     #[test]
     fn obj_has_one_based_faces_and_shifted_vertices() {
         let mesh = TriMesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2]]).unwrap();
-        let text = String::from_utf8(write_obj(
-            &mesh,
-            DVec3::new(1.0, 0.0, 0.0),
-            Some(("a.mtl", "m")),
-        ))
-        .unwrap();
-        assert!(text.contains("mtllib a.mtl\nusemtl m\n"));
+        let text = String::from_utf8(write_obj(&mesh, DVec3::new(1.0, 0.0, 0.0))).unwrap();
+        assert!(!text.contains("mtllib"));
         assert!(text.contains("v -1 0 0\nv 0 0 0\nv -1 1 0\n"));
         assert!(text.ends_with("f 1 2 3\n"));
     }

@@ -107,6 +107,8 @@ fn run_export() -> uniphys_export::ExportOutput {
         part_meshes: &meshes,
         colliders: &colliders,
         part_colors: &[[0.5, 0.3, 0.1, 1.0]; 2],
+        materials: &[],
+        textures: &[],
         touching_pairs: &[(PartId(0), PartId(1))],
         report: &VerificationReport::default(),
         notes: &[],
@@ -183,6 +185,7 @@ fn link_meshes_are_in_the_link_frame_and_part_meshes_in_the_object_frame() {
     assert!(link.contains("v 0 -0.01 -0.3\n"), "{link}");
     assert!(part.contains("v -0.3 -0.22 0\n"));
     assert!(part.starts_with("# written by uniphys\nmtllib part_1.mtl\n"));
+    assert!(part.contains("usemtl default\n"));
 }
 
 #[test]
@@ -208,6 +211,8 @@ fn export_rejects_inputs_that_do_not_match_the_record() {
         part_meshes: &meshes[..1],
         colliders: &[],
         part_colors: &[],
+        materials: &[],
+        textures: &[],
         touching_pairs: &[],
         report: &VerificationReport::default(),
         notes: &[],

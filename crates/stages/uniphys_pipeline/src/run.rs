@@ -207,6 +207,8 @@ pub fn run(
             part_meshes: &meshes,
             colliders: &colliders,
             part_colors: &colors,
+            materials: &asset.materials,
+            textures: &asset.textures,
             touching_pairs: &touching,
             report: &report,
             notes: &notes,
