@@ -61,6 +61,19 @@ pub(crate) fn read_urdf(
                     .map(|v| (&v.origin, &v.geometry, v.material.as_ref()))
                     .collect()
             };
+        // A primitive of zero size (PyBullet's laikago toes are spheres of radius 0) has no
+        // surface: leave it out and say so, as if the link had no such geometry.
+        let (zero, geometries): (Vec<_>, Vec<_>) = geometries
+            .into_iter()
+            .partition(|(_, g, _)| is_zero_size(g));
+        if !zero.is_empty() {
+            session.warnings.push(format!(
+                "{}: link {:?} has {} zero-size primitive(s); left out",
+                path.display(),
+                link.name,
+                zero.len()
+            ));
+        }
         if geometries.is_empty() {
             continue;
         }
@@ -88,6 +101,20 @@ pub(crate) fn read_urdf(
     let mut asset = builder.asset;
     asset.joints = part_joints(&robot, &tree, &part_of_link, path)?;
     Ok(asset)
+}
+
+/// Whether a primitive has a zero dimension (and no negative or non-finite one, which stays an
+/// error).
+fn is_zero_size(geometry: &Geometry) -> bool {
+    let dims: Vec<f64> = match geometry {
+        Geometry::Box { size } => size.0.to_vec(),
+        Geometry::Cylinder { radius, length } | Geometry::Capsule { radius, length } => {
+            vec![*radius, *length]
+        }
+        Geometry::Sphere { radius } => vec![*radius],
+        Geometry::Mesh { .. } => return false,
+    };
+    dims.iter().all(|d| d.is_finite() && *d >= 0.0) && dims.contains(&0.0)
 }
 
 struct Builder<'a> {

@@ -265,3 +265,27 @@ fn mesh_scale_is_applied_before_the_origin() {
     let b = loaded.asset.parts[0].mesh.bounds();
     assert!(close(b.min.to_array(), [1.0, -0.5, 0.0]) && close(b.max.to_array(), [1.0, 0.5, 3.0]));
 }
+
+#[test]
+fn zero_size_primitives_are_left_out_with_a_warning_but_negative_ones_are_errors() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let urdf = r#"<robot name="r">
+      <link name="leg"><visual><geometry><box size="0.1 0.1 0.5"/></geometry></visual></link>
+      <link name="toe"><visual><geometry><sphere radius="0"/></geometry></visual></link>
+      <joint name="ankle" type="fixed"><parent link="leg"/><child link="toe"/></joint>
+    </robot>"#;
+    let path = common::write(&dir.path().join("a"), "r.urdf", urdf);
+    let loaded = load_asset(&path, &IngestOptions::default()).expect("loads");
+    assert_eq!(loaded.asset.parts.len(), 1, "the toe has no surface");
+    assert_eq!(loaded.warnings.len(), 1);
+    assert!(
+        loaded.warnings[0].contains("\"toe\""),
+        "{:?}",
+        loaded.warnings
+    );
+
+    let bad = urdf.replace(r#"radius="0""#, r#"radius="-1""#);
+    let path = common::write(&dir.path().join("b"), "r.urdf", &bad);
+    let err = load_asset(&path, &IngestOptions::default()).expect_err("negative radius");
+    assert!(err.to_string().contains("finite and positive"), "{err}");
+}
