@@ -35,7 +35,7 @@ pub(crate) fn read_urdf(
             "elements are nested {depth} deep, more than {MAX_DEPTH}"
         )));
     }
-    let patched = guarded(path, "urdf", || add_missing_limit_velocity(text))?.map_err(parse_err)?;
+    let patched = guarded(path, "urdf", || repair_for_urdf_rs(text))?.map_err(parse_err)?;
     let robot = guarded(path, "urdf", || urdf_rs::read_from_string(&patched))?
         .map_err(|e| parse_err(e.to_string()))?;
     let tree = Tree::new(&robot, path)?;
@@ -286,10 +286,18 @@ fn max_nesting(text: &str) -> usize {
     max
 }
 
-/// PartNet-Mobility writes `<limit lower upper/>` without the `velocity` that urdf-rs requires
-/// for URDF < 1.2; add `velocity="0"` where it is missing.
-fn add_missing_limit_velocity(text: &str) -> Result<String, String> {
+/// Repairs two habits of real URDFs that urdf-rs refuses: PartNet-Mobility writes
+/// `<limit lower upper/>` without the `velocity` that urdf-rs requires for URDF < 1.2 (add
+/// `velocity="0"`), and some files separate vector components with commas
+/// (`xyz="0.07, 0, -0.69"`; read them as spaces).
+fn repair_for_urdf_rs(text: &str) -> Result<String, String> {
     fn visit(element: &mut xml::Element) {
+        for key in ["xyz", "rpy", "size", "scale"] {
+            if let Some(value) = element.get_attribute(key, None).filter(|v| v.contains(',')) {
+                let spaced = value.replace(',', " ");
+                element.set_attribute(key.to_owned(), None, spaced);
+            }
+        }
         let is_joint = element.name == "joint";
         for child in &mut element.children {
             if let xml::Xml::ElementNode(child) = child {
@@ -324,12 +332,22 @@ mod tests {
     }
 
     #[test]
+    fn comma_separated_vectors_read_as_spaces() {
+        let text = r#"<robot name="r"><link name="a"><visual><origin xyz="0.07, 0, -0.69" rpy="0 0 0"/>
+            <geometry><box size="1,2,3"/></geometry></visual></link></robot>"#;
+        assert!(urdf_rs::read_from_string(text).is_err());
+        let robot = urdf_rs::read_from_string(&repair_for_urdf_rs(text).expect("parses"))
+            .expect("accepted");
+        assert_eq!(robot.links[0].visual[0].origin.xyz.0, [0.07, 0.0, -0.69]);
+    }
+
+    #[test]
     fn limit_without_velocity_gets_one_so_urdf_rs_accepts_it() {
         let text = r#"<robot name="r"><link name="a"/><link name="b"/>
             <joint name="j" type="revolute"><parent link="a"/><child link="b"/>
             <limit lower="0" upper="1.5"/></joint></robot>"#;
         assert!(urdf_rs::read_from_string(text).is_err());
-        let patched = add_missing_limit_velocity(text).expect("parses");
+        let patched = repair_for_urdf_rs(text).expect("parses");
         let robot = urdf_rs::read_from_string(&patched).expect("accepted");
         assert!((robot.joints[0].limit.upper - 1.5).abs() < 1e-12);
     }
