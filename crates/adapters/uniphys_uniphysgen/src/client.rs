@@ -288,7 +288,10 @@ impl UniPhysGenClient {
     }
 
     fn attempt(&self, request: &PredictRequest) -> Outcome {
-        let url = format!("{}{PREDICT_PATH}", self.config.base_url.trim_end_matches('/'));
+        let url = format!(
+            "{}{PREDICT_PATH}",
+            self.config.base_url.trim_end_matches('/')
+        );
         let response = self.agent.post(&url).send_json(request);
         let mut response = match response {
             Ok(response) => response,

@@ -156,7 +156,10 @@ impl VoxelGrid {
 }
 
 fn raw_cell(point_in_model: DVec3, grid_size: f64) -> [i64; 3] {
-    (point_in_model / grid_size).floor().to_array().map(|v| v as i64)
+    (point_in_model / grid_size)
+        .floor()
+        .to_array()
+        .map(|v| v as i64)
 }
 
 #[cfg(test)]
@@ -176,7 +179,12 @@ mod tests {
         // Object corners (0,0,0) and (2,2,2): centre 1, scale 1, model frame = source frame
         // (min_bound -1 undoes the centring). With 4 bins the voxel is 0.5.
         let object = cloud(
-            &[[0.0, 0.0, 0.0], [2.0, 2.0, 2.0], [0.1, 0.2, 0.3], [0.6, 1.2, 1.9]],
+            &[
+                [0.0, 0.0, 0.0],
+                [2.0, 2.0, 2.0],
+                [0.1, 0.2, 0.3],
+                [0.6, 1.2, 1.9],
+            ],
             &[[0, 0, 0], [255, 255, 255], [10, 20, 30], [255, 0, 127]],
         );
         let prepared = PreparedAsset {
@@ -203,22 +211,29 @@ mod tests {
 
     #[test]
     fn the_object_grid_origin_is_shared_by_a_part_below_it() {
-        // Object from (0,0,0) to (2,2,2); the part reaches x = -0.5 in source. The shared shift
-        // then makes model x = source x + 0.5, the object's lowest voxel is floor(0.5/0.5) = 1,
-        // and the part point at model x = 0 lands at raw cell 0 - 1 = -1, clipped to 0.
+        // Object from (0,0,0) to (2,2,2); the part reaches x = -0.6 in source. The shared shift
+        // then makes model x = source x + 0.6, the object's lowest voxel is floor(0.6/0.5) = 1,
+        // and the part point at model x = 0 lands at raw cell 0 - 1 = -1, clipped to 0. Source
+        // x = 1 is model 1.6: floor(3.2) - 1 = 2.
         let object = cloud(&[[0.0, 0.0, 0.0], [2.0, 2.0, 2.0]], &[[0; 3]; 2]);
-        let part = cloud(&[[-0.5, 0.0, 0.0]], &[[0; 3]]);
+        let part = cloud(&[[-0.6, 0.0, 0.0]], &[[0; 3]]);
         let frame = CoordinateFrame::from_clouds(&object, &[&part]);
         let grid = VoxelGrid::of_object(&frame, &object, 4);
         assert_eq!(grid.shared_min, [1, 0, 0]);
-        assert_eq!(grid.cell(frame.point_source_to_model(DVec3::new(-0.5, 0.0, 0.0))), [0, 0, 0]);
-        assert_eq!(grid.cell(frame.point_source_to_model(DVec3::new(1.2, 0.0, 0.0))), [2, 0, 0]);
+        let cell = |x: f64| grid.cell(frame.point_source_to_model(DVec3::new(x, 0.0, 0.0)));
+        assert_eq!(cell(-0.6), [0, 0, 0]);
+        assert_eq!(cell(1.0), [2, 0, 0]);
     }
 
     #[test]
     fn voxel_sampling_keeps_one_point_per_occupied_voxel_in_first_seen_order() {
         let object = cloud(
-            &[[0.0, 0.0, 0.0], [2.0, 2.0, 2.0], [1.9, 1.9, 1.9], [0.01, 0.0, 0.0]],
+            &[
+                [0.0, 0.0, 0.0],
+                [2.0, 2.0, 2.0],
+                [1.9, 1.9, 1.9],
+                [0.01, 0.0, 0.0],
+            ],
             &[[1, 1, 1], [2, 2, 2], [3, 3, 3], [4, 4, 4]],
         );
         let frame = CoordinateFrame::from_clouds(&object, &[]);

@@ -96,7 +96,13 @@ pub fn prepare_points(
     options: &PointOptions,
 ) -> UniPhysGenResult<PreparedAsset> {
     let merged = asset.merged();
-    let object = cloud(asset, &merged, options.object_points, options.seed, "object")?;
+    let object = cloud(
+        asset,
+        &merged,
+        options.object_points,
+        options.seed,
+        "object",
+    )?;
     let object_area = merged.area();
     let mut parts = Vec::with_capacity(asset.parts.len());
     for (index, part) in asset.parts.iter().enumerate() {

@@ -182,12 +182,16 @@ pub fn restore_members(answer: &PartAnswer, part_ids: &[String]) -> UniPhysGenRe
     let mut ids = Vec::with_capacity(members.len());
     for member in members {
         let known = part_ids.iter().any(|id| id == member);
-        let index = member.parse::<u32>().ok().filter(|_| known).ok_or_else(|| {
-            invalid(
-                part,
-                format!("member {member:?} is not a part of this asset (parts: {part_ids:?})"),
-            )
-        })?;
+        let index = member
+            .parse::<u32>()
+            .ok()
+            .filter(|_| known)
+            .ok_or_else(|| {
+                invalid(
+                    part,
+                    format!("member {member:?} is not a part of this asset (parts: {part_ids:?})"),
+                )
+            })?;
         if !ids.contains(&PartId(index)) {
             ids.push(PartId(index));
         }
@@ -237,8 +241,8 @@ pub fn restore_physics(
             format!("friction {} must not be negative", answer.friction),
         ));
     }
-    let material = Material::parse(&answer.material)
-        .map_err(|e| invalid(part, format!("material: {e}")))?;
+    let material =
+        Material::parse(&answer.material).map_err(|e| invalid(part, format!("material: {e}")))?;
     let from_model = || Provenance::provider(PROVIDER, model);
     let missing = |what: &str| {
         Provenance::default_because(format!("the UniPhysGen physics answer has no {what}"))
@@ -284,7 +288,10 @@ pub fn restore_object(answer: &ObjectAnswer, model: &str) -> UniPhysGenResult<Re
         if values.iter().all(|&v| v > 0.0) {
             Ok(())
         } else {
-            Err(invalid(part, format!("{field} {values:?} must be positive")))
+            Err(invalid(
+                part,
+                format!("{field} {values:?} must be positive"),
+            ))
         }
     };
     positive("mass", &[answer.mass])?;

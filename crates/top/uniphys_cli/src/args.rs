@@ -25,6 +25,9 @@ pub enum Command {
         #[arg(long, default_value_t = 128)]
         voxel_resolution: usize,
     },
+    /// Write the UniPhysGen point clouds of an asset (object and parts) as npz files in the
+    /// reference layout, with the coordinate frame of the model's answers.
+    Points(PointsArgs),
     /// Write the example assets (cabinet, laptop, box with lid, mug) as GLB files.
     Examples {
         /// Output directory.
@@ -70,6 +73,28 @@ pub struct RunArgs {
     /// Print the run summary as JSON on stdout instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Arguments of `uniphys points`.
+#[derive(Debug, clap::Args)]
+pub struct PointsArgs {
+    /// The asset (any format `uniphys run` reads), ingested with the default options.
+    pub asset: PathBuf,
+    /// Output directory: `npzs/model.npz`, `npzs/<part index>.npz`, `coordinate_frame.json`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Seed of the surface sampling.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// Points on the whole object.
+    #[arg(long, default_value_t = 100_000)]
+    pub object_points: usize,
+    /// Fewest points on a part (parts get their area share of the object points, at least this).
+    #[arg(long, default_value_t = 10_000)]
+    pub min_part_points: usize,
+    /// Voxels per axis of the model grid (the released checkpoints use 256).
+    #[arg(long, default_value_t = 256)]
+    pub num_bins: u32,
 }
 
 /// Metres per unit for a `--unit` value.

@@ -2,10 +2,12 @@
 //!
 //! - `uniphys run <asset> --out <dir>`: the whole pipeline on one asset, no servers;
 //! - `uniphys measure <mesh>`: exact and voxel mass properties per part, as JSON;
+//! - `uniphys points <asset> --out <dir>`: UniPhysGen point clouds (npz) and model frame;
 //! - `uniphys examples --out <dir>`: write the example assets as GLB.
 
 mod args;
 mod measure_cmd;
+mod points_cmd;
 mod progress;
 mod run_cmd;
 
@@ -36,6 +38,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
             mesh,
             voxel_resolution,
         } => measure_cmd::measure(&mesh, voxel_resolution),
+        Command::Points(args) => points_cmd::points(&args),
         Command::Examples { out } => {
             let written = uniphys_examples::write_catalogue(&out).map_err(|e| {
                 anyhow::anyhow!(
