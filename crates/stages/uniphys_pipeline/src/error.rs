@@ -22,6 +22,9 @@ pub enum PipelineError {
     /// The assembled record broke an invariant (a bug in an earlier stage).
     #[error("assembled asset record is invalid: {0}")]
     Record(#[from] uniphys_types::TypesError),
+    /// The UniPhysGen model server could not be used or gave an unusable answer.
+    #[error(transparent)]
+    Model(#[from] uniphys_uniphysgen::UniPhysGenError),
     /// The input has nothing to process.
     #[error("{0}")]
     Empty(String),

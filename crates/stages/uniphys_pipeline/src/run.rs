@@ -17,6 +17,7 @@ use uniphys_types::{
 };
 
 use crate::colors::{materials_by_coverage, part_color};
+use crate::learned::{LearnedOptions, ground_learned};
 use crate::parallel::par_map;
 use crate::{PipelineError, PipelineResult, Progress, Stage};
 
@@ -31,6 +32,8 @@ pub struct RunOptions {
     pub convex: ConvexParams,
     /// Parts closer than this fraction of the object diagonal count as touching (MJCF excludes).
     pub touching_fraction: f64,
+    /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
+    pub learned: Option<LearnedOptions>,
 }
 
 impl Default for RunOptions {
@@ -40,6 +43,7 @@ impl Default for RunOptions {
             voxel_resolution: 128,
             convex: ConvexParams::default(),
             touching_fraction: 0.005,
+            learned: None,
         }
     }
 }
@@ -79,9 +83,9 @@ impl Clock<'_> {
 }
 
 /// Prepared geometry of one part.
-struct Prepared {
-    mass: MassProperties,
-    method: VolumeMethod,
+pub(crate) struct Prepared {
+    pub(crate) mass: MassProperties,
+    pub(crate) method: VolumeMethod,
 }
 
 /// Runs ingest, prepare, ground, colliders and export on the asset at `path`.
@@ -161,7 +165,10 @@ pub fn run(
     })?;
 
     let (record, articulation_notes) = clock.stage(Stage::Ground, || {
-        let (record, notes) = ground(&name, source, &asset, &prepared)?;
+        let (mut record, mut notes) = ground(&name, source, &asset, &prepared)?;
+        if let Some(learned) = &options.learned {
+            notes.extend(ground_learned(&asset, &prepared, &mut record, learned)?);
+        }
         let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
         let summary = format!(
             "{} movable joints, object mass {:.3} kg ({})",

@@ -70,6 +70,14 @@ pub struct RunArgs {
     /// Most convex hulls per part in the colliders.
     #[arg(long, default_value_t = 16)]
     pub max_hulls: usize,
+    /// Ground with the UniPhysGen model server at this URL (e.g. http://gpu-node:8000) instead of
+    /// the built-in grounder's estimates; the articulation tree still comes from the input or the
+    /// geometric heuristic.
+    #[arg(long, env = "UNIPHYSGEN_URL")]
+    pub uniphysgen_url: Option<String>,
+    /// GPU slots this process may hold on the model server at once.
+    #[arg(long, default_value_t = 1)]
+    pub uniphysgen_slots: usize,
     /// Print the run summary as JSON on stdout instead of text.
     #[arg(long)]
     pub json: bool,

@@ -2,9 +2,10 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use uniphys_mesh_io::IngestOptions;
-use uniphys_pipeline::{RunOptions, run as run_pipeline};
+use uniphys_pipeline::{LearnedOptions, RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
 use uniphys_types::UpAxis;
+use uniphys_uniphysgen::ClientConfig;
 
 use crate::args::{RunArgs, UpArg, metres_per_unit};
 use crate::progress::StderrProgress;
@@ -25,6 +26,14 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         ..RunOptions::default()
     };
     options.convex.max_hulls = args.max_hulls;
+    options.learned = args.uniphysgen_url.as_ref().map(|url| LearnedOptions {
+        client: ClientConfig {
+            base_url: url.clone(),
+            ..ClientConfig::default()
+        },
+        slots: args.uniphysgen_slots,
+        ..LearnedOptions::default()
+    });
     let output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
 
     let store = ArtifactStore::local(&args.out)?;

@@ -1,0 +1,158 @@
+//! The learned grounding path: a UniPhysGen model server predicts part physics, part motion and
+//! object-level properties; its answers replace the built-in grounder's values in the record,
+//! so verification and export work unchanged and every value names the model.
+//!
+//! The articulation tree (which part hangs from which) still comes from the input or the
+//! geometric heuristic: the model predicts how a part moves, not what it is attached to.
+
+use uniphys_geometry::{DMat3, DVec3, MeshAsset};
+use uniphys_ground::{PartInput, RigidMass, articulate};
+use uniphys_types::{AssetRecord, Estimate, Joint, JointKind, Provenance};
+use uniphys_uniphysgen::restore::{restore_motion, restore_object, restore_physics};
+use uniphys_uniphysgen::{
+    ClientConfig, PointOptions, Task, UniPhysGenClient, model_inputs, prepare_points,
+};
+
+use crate::PipelineResult;
+use crate::run::Prepared;
+
+/// How to reach the model server and prepare its inputs.
+#[derive(Debug, Clone)]
+pub struct LearnedOptions {
+    /// Server address, timeouts, retries, batching.
+    pub client: ClientConfig,
+    /// GPU slots this process may hold at once.
+    pub slots: usize,
+    /// Point-cloud sizes and seed.
+    pub points: PointOptions,
+    /// Voxel grid bins over the [0, 2] frame.
+    pub num_bins: u32,
+}
+
+impl Default for LearnedOptions {
+    fn default() -> Self {
+        Self {
+            client: ClientConfig::default(),
+            slots: 1,
+            points: PointOptions::default(),
+            num_bins: uniphys_uniphysgen::DEFAULT_NUM_BINS,
+        }
+    }
+}
+
+/// Replaces properties, joints and object name/category/mass in `record` with the model's
+/// answers. Returns notes for the report.
+pub(crate) fn ground_learned(
+    asset: &MeshAsset,
+    prepared: &[Prepared],
+    record: &mut AssetRecord,
+    options: &LearnedOptions,
+) -> PipelineResult<Vec<String>> {
+    let points = prepare_points(asset, &options.points)?;
+    let inputs = model_inputs(&points, options.num_bins)?;
+    let client = UniPhysGenClient::new(options.client.clone(), options.slots)?;
+    let sample = record.name.clone();
+    let mut notes = Vec::new();
+
+    let physics = client.predict_parts(Task::Physics, &sample, &inputs)?;
+    for ((part, answer), prep) in record.parts.iter_mut().zip(&physics.parts).zip(prepared) {
+        let Some(values) = &answer.physical_properties else {
+            notes.push(format!(
+                "{}: the model gave no physics; built-in values kept",
+                part.id
+            ));
+            continue;
+        };
+        part.properties = restore_physics(&answer.id, values, &physics.model)?;
+        let density = part.properties.density_kg_per_m3.value;
+        part.mass.mass_kg = Estimate::new(
+            prep.mass.mass_kg(density),
+            Provenance::rule("density_times_volume"),
+        );
+        part.mass.inertia_about_com_kg_m2 = prep
+            .mass
+            .inertia_kg_m2(density)
+            .transpose()
+            .to_cols_array_2d();
+    }
+
+    let motion = client.predict_parts(Task::Kinematics, &sample, &inputs)?;
+    let mut declared = Vec::with_capacity(record.joints.len());
+    for joint in &record.joints {
+        let i = joint.child.0 as usize;
+        let (Some(answer), Some(center)) =
+            (motion.parts.get(i), points.part_centers_in_object_m.get(i))
+        else {
+            continue;
+        };
+        let restored = restore_motion(answer, &inputs.frame, *center, &motion.model)?;
+        declared.push(match restored {
+            Some(m) => Joint {
+                name: String::new(),
+                kind: m.kind,
+                axis_in_object: m.axis_in_object,
+                pivot_in_object_m: m.pivot_in_object_m,
+                limits: m.limits,
+                damping: 0.0,
+                friction: 0.0,
+                coupled_parts: Vec::new(),
+                provenance: m.provenance,
+                ..joint.clone()
+            },
+            None => Joint {
+                kind: JointKind::Fixed,
+                name: String::new(),
+                damping: 0.0,
+                friction: 0.0,
+                ..joint.clone()
+            },
+        });
+    }
+    if motion
+        .parts
+        .get(record.root.0 as usize)
+        .is_some_and(|a| a.motion_type.is_some())
+    {
+        notes.push(format!(
+            "the model says the root {} moves; it stays fixed to the world",
+            record.root
+        ));
+    }
+    let masses: Vec<RigidMass> = record
+        .parts
+        .iter()
+        .map(|p| RigidMass {
+            mass_kg: p.mass.mass_kg.value,
+            com: DVec3::from_array(p.mass.com_in_object_m),
+            inertia_about_com_kg_m2: DMat3::from_cols_array_2d(&p.mass.inertia_about_com_kg_m2)
+                .transpose(),
+        })
+        .collect();
+    let parts: Vec<PartInput<'_>> = asset
+        .parts
+        .iter()
+        .zip(prepared)
+        .zip(&masses)
+        .map(|((p, prep), mass)| PartInput {
+            name: &p.name,
+            mesh: &p.mesh,
+            volume_m3: prep.mass.volume_m3,
+            mass: *mass,
+        })
+        .collect();
+    let articulation = articulate(&parts, &declared)?;
+    record.joints = articulation.joints;
+    notes.extend(articulation.notes);
+
+    let (model, object) = client.predict_object(&sample, &inputs)?;
+    let object = restore_object(&object, &model)?;
+    record.object.name = object.name;
+    record.object.category = object.category;
+    record.object.mass_kg = object.mass_kg;
+    record.validate()?;
+    notes.push(format!(
+        "grounded by the UniPhysGen model {model:?} at {}",
+        options.client.base_url
+    ));
+    Ok(notes)
+}

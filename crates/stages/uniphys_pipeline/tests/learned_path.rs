@@ -1,0 +1,77 @@
+//! The learned path end to end against the rule-based UniPhysGen TEST server on loopback: the
+//! model's answers land in the record with the model named in their provenance, and the export
+//! still runs.
+
+use uniphys_examples::{GlbFrame, example, write_glb};
+use uniphys_pipeline::{LearnedOptions, NoProgress, PipelineError, RunOptions, run};
+use uniphys_types::Provenance;
+use uniphys_uniphysgen::test_server::TestServer;
+use uniphys_uniphysgen::{ClientConfig, PointOptions};
+
+fn cabinet() -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cabinet = example("cabinet").expect("cabinet example");
+    let path = dir.path().join("cabinet.glb");
+    std::fs::write(
+        &path,
+        write_glb(&cabinet.asset, GlbFrame::YUp).expect("glb"),
+    )
+    .expect("write");
+    (dir, path)
+}
+
+fn learned(url: String) -> RunOptions {
+    RunOptions {
+        learned: Some(LearnedOptions {
+            client: ClientConfig {
+                base_url: url,
+                ..ClientConfig::default()
+            },
+            points: PointOptions {
+                object_points: 20_000,
+                min_part_points: 2_000,
+                seed: 42,
+            },
+            ..LearnedOptions::default()
+        }),
+        ..RunOptions::default()
+    }
+}
+
+#[test]
+fn model_answers_replace_the_builtin_values_and_name_the_model() {
+    let server = TestServer::start().expect("test server");
+    let (_dir, path) = cabinet();
+    let out = run(&path, &learned(server.url()), &NoProgress).expect("learned run");
+    let is_model = |p: &Provenance| matches!(p, Provenance::Provider { name, .. } if name.starts_with("uniphysgen"));
+    for part in &out.record.parts {
+        assert!(
+            is_model(&part.properties.density_kg_per_m3.provenance),
+            "{:?}",
+            part.properties.density_kg_per_m3
+        );
+        assert!(is_model(&part.properties.material.provenance));
+    }
+    assert!(is_model(&out.record.object.category.provenance));
+    for joint in out.record.joints.iter().filter(|j| j.kind.is_movable()) {
+        assert!(is_model(&joint.provenance), "{joint:?}");
+    }
+    assert!(
+        server.predict_requests() >= 3,
+        "physics, kinematics and object requests"
+    );
+    assert!(out.artifacts.iter().any(|a| a.path == "model.urdf"));
+}
+
+#[test]
+fn an_unreachable_model_server_is_a_model_error_naming_the_task() {
+    let (_dir, path) = cabinet();
+    // Port 9 (discard) on loopback: nothing listens.
+    let mut options = learned("http://127.0.0.1:9".to_owned());
+    if let Some(l) = &mut options.learned {
+        l.client.max_attempts = 1;
+    }
+    let err = run(&path, &options, &NoProgress).expect_err("no server");
+    assert!(matches!(err, PipelineError::Model(_)), "{err}");
+    assert!(err.to_string().contains("physics"), "{err}");
+}
