@@ -73,6 +73,16 @@ impl MeshAsset {
         TriMesh::merge(self.parts.iter().map(|p| &p.mesh))
     }
 
+    /// Moves the asset so it rests on z = 0, centred in x and y (the service's object frame);
+    /// returns the translation applied.
+    pub fn rest_on_ground(&mut self) -> DVec3 {
+        let b = self.bounds();
+        let c = b.center();
+        let offset = DVec3::new(-c.x, -c.y, -b.min.z);
+        self.transform(&DMat4::from_translation(offset));
+        offset
+    }
+
     /// Applies a similarity transform (rotation, uniform scale, translation) to every part and
     /// to the joints' axes and pivots.
     pub fn transform(&mut self, m: &DMat4) {
@@ -95,5 +105,54 @@ impl MeshAsset {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use uniphys_types::{JointKind, JointLimits, PartId, Provenance};
+
+    use super::*;
+
+    #[test]
+    fn resting_on_the_ground_moves_parts_and_joint_pivots_together() {
+        let mut asset = MeshAsset {
+            parts: vec![MeshPart {
+                name: "block".into(),
+                mesh: TriMesh::cuboid(DVec3::new(1.0, 2.0, 3.0), DVec3::new(3.0, 4.0, 5.0)),
+            }],
+            joints: vec![Joint {
+                name: "j".into(),
+                kind: JointKind::Prismatic,
+                parent: PartId(0),
+                child: PartId(0),
+                axis_in_object: [1.0, 0.0, 0.0],
+                pivot_in_object_m: [2.0, 3.0, 4.0],
+                limits: Some(JointLimits {
+                    lower: 0.0,
+                    upper: 0.5,
+                }),
+                damping: 0.0,
+                friction: 0.0,
+                coupled_parts: vec![],
+                provenance: Provenance::rule("test"),
+            }],
+            ..MeshAsset::default()
+        };
+        let offset = asset.rest_on_ground();
+        assert_eq!(offset, DVec3::new(-2.0, -3.0, -3.0));
+        let b = asset.bounds();
+        assert_eq!(
+            (b.min, b.max),
+            (DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, 1.0, 2.0))
+        );
+        assert_eq!(asset.joints[0].pivot_in_object_m, [0.0, 0.0, 1.0]);
+        assert_eq!(
+            asset.joints[0].limits,
+            Some(JointLimits {
+                lower: 0.0,
+                upper: 0.5
+            })
+        );
     }
 }

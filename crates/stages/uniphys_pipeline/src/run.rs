@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
-    ConvexParams, DMat4, DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod,
-    convex_decomposition, min_distance_m, solid_mass_properties,
+    ConvexParams, MassProperties, MeshAsset, TriMesh, VolumeMethod, convex_decomposition,
+    min_distance_m, solid_mass_properties,
 };
 use uniphys_ground::{PartInput, RigidMass, articulate, ground_part, object_properties, sanitize};
 use uniphys_mesh_io::{IngestOptions, load_asset};
@@ -135,7 +135,7 @@ pub fn run(
                 path.display()
             )));
         }
-        let offset = rest_on_ground(&mut asset);
+        let offset = asset.rest_on_ground();
         notes.push(format!(
             "object moved by ({:.4}, {:.4}, {:.4}) m to rest on z = 0, centred in x and y",
             offset.x, offset.y, offset.z
@@ -246,15 +246,6 @@ pub fn asset_name(path: &Path) -> String {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "asset".to_owned()),
     )
-}
-
-/// Moves the asset so it rests on z = 0, centred in x and y; returns the translation.
-fn rest_on_ground(asset: &mut MeshAsset) -> DVec3 {
-    let b = asset.bounds();
-    let c = b.center();
-    let offset = DVec3::new(-c.x, -c.y, -b.min.z);
-    asset.transform(&DMat4::from_translation(offset));
-    offset
 }
 
 fn ground(

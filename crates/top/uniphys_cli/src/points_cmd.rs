@@ -17,7 +17,9 @@ fn ms(since: Instant) -> f64 {
 
 pub(crate) fn points(args: &PointsArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
-    let loaded = load_asset(&args.asset, &IngestOptions::default())?;
+    let mut loaded = load_asset(&args.asset, &IngestOptions::default())?;
+    // The object frame of `uniphys run`: the coordinate frame maps back to the record's frame.
+    loaded.asset.rest_on_ground();
     let load_ms = ms(start);
 
     let start = Instant::now();
