@@ -28,10 +28,13 @@ def points_dir(tmp_path_factory):
 
 
 def cabinet_vertices_z_up():
-    # The ingest reads glTF as Y up and rotates +90 degrees about x: (x, y, z) -> (x, -z, y).
+    # The ingest reads glTF as Y up and rotates +90 degrees about x: (x, y, z) -> (x, -z, y);
+    # then, like `uniphys run`, the object rests on z = 0, centred in x and y.
     mesh = trimesh.load(CABINET, force="mesh")
     v = np.asarray(mesh.vertices)
-    return np.stack([v[:, 0], -v[:, 2], v[:, 1]], axis=1)
+    v = np.stack([v[:, 0], -v[:, 2], v[:, 1]], axis=1)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    return v - np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2]])
 
 
 def test_model_npz_has_the_documented_arrays(points_dir):
