@@ -190,9 +190,7 @@ pub(crate) fn read_ply(
         }
     }
     session.check_triangles(path, triangles.len())?;
-    let name = path
-        .file_stem()
-        .map_or_else(|| "part_0".to_owned(), |s| s.to_string_lossy().into_owned());
+    let name = crate::source::part_name_of_file(path);
     Ok(MeshAsset {
         parts: vec![MeshPart {
             name,

@@ -117,6 +117,12 @@ fn read_limited(path: &Path, limit: u64) -> IngestResult<Vec<u8>> {
     Ok(bytes)
 }
 
+/// The part name of a single-part file (PLY, STL): its file stem, or `part_0`.
+pub(crate) fn part_name_of_file(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "part_0".to_owned(), |s| s.to_string_lossy().into_owned())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

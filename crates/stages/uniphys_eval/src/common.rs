@@ -55,6 +55,12 @@ pub(crate) fn hit(value: bool) -> Option<f64> {
     Some(if value { 1.0 } else { 0.0 })
 }
 
+/// Whether a metric is present and equals `b` within 1e-12 (test helper).
+#[cfg(test)]
+pub(crate) fn close(a: Option<f64>, b: f64) -> bool {
+    a.is_some_and(|a| (a - b).abs() < 1e-12)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -109,11 +109,7 @@ pub fn evaluate_object(samples: &[ObjectSample]) -> TaskReport {
 mod tests {
     use super::*;
 
-    const EPS: f64 = 1e-12;
-
-    fn close(a: Option<f64>, b: f64) -> bool {
-        a.is_some_and(|a| (a - b).abs() < EPS)
-    }
+    use crate::common::close;
 
     fn values(dims: &[f64], mass: f64, category: &str) -> ObjectValues {
         ObjectValues {

@@ -116,11 +116,7 @@ pub fn evaluate_physics(samples: &[PhysicsSample]) -> TaskReport {
 mod tests {
     use super::*;
 
-    const EPS: f64 = 1e-12;
-
-    fn close(a: Option<f64>, b: f64) -> bool {
-        a.is_some_and(|a| (a - b).abs() < EPS)
-    }
+    use crate::common::close;
 
     fn props(material: &str, density: f64, friction: f64) -> PhysicalProperties {
         PhysicalProperties {

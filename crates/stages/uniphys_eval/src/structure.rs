@@ -115,11 +115,7 @@ mod tests {
 
     use super::*;
 
-    const EPS: f64 = 1e-12;
-
-    fn close(a: Option<f64>, b: f64) -> bool {
-        a.is_some_and(|a| (a - b).abs() < EPS)
-    }
+    use crate::common::close;
 
     fn sample(pred: Value, gt: Value) -> StructureSample {
         StructureSample {
@@ -130,14 +126,14 @@ mod tests {
 
     #[test]
     fn empty_sets_have_iou_one() {
-        assert!((set_iou(&IdSet::new(), &IdSet::new()) - 1.0).abs() < EPS);
+        assert!(close(Some(set_iou(&IdSet::new(), &IdSet::new())), 1.0));
     }
 
     #[test]
     fn set_iou_is_intersection_over_union() {
         let p = normalise_id_set(&json!([1, 2, 3])).expect("valid");
         let g = normalise_id_set(&json!([2, 3, 4])).expect("valid");
-        assert!((set_iou(&p, &g) - 0.5).abs() < EPS);
+        assert!(close(Some(set_iou(&p, &g)), 0.5));
     }
 
     #[test]
