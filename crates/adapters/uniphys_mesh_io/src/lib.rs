@@ -9,7 +9,8 @@
 //!
 //! Map of the crate:
 //! - [`load_asset`], [`detect_format`], [`LoadedAsset`]: entry points (`load.rs`).
-//! - [`IngestOptions`]: units, up axis and limits (`options.rs`).
+//! - [`IngestOptions`]: units, up axis, limits, ignored joints and a rotation (`options.rs`);
+//!   [`AssetRotation`]: a seeded uniform random rotation (`rotation.rs`).
 //! - [`IngestError`], [`IngestResult`]: errors (`error.rs`).
 //! - Format readers: `gltf.rs` (+ `gltf_data.rs`), `obj.rs`, `ply.rs`, `stl.rs`, `urdf.rs`
 //!   (+ `urdf_tree.rs`, `urdf_joints.rs`), `primitives.rs` (URDF shapes), `texture.rs`.
@@ -28,6 +29,7 @@ mod options;
 mod paths;
 mod ply;
 mod primitives;
+mod rotation;
 mod source;
 mod stl;
 mod texture;
@@ -38,3 +40,4 @@ mod urdf_tree;
 pub use error::{IngestError, IngestResult};
 pub use load::{LoadedAsset, default_up_axis, detect_format, load_asset};
 pub use options::IngestOptions;
+pub use rotation::{AssetRotation, uniform_rotation};

@@ -64,7 +64,8 @@ pub fn default_up_axis(format: SourceFormat) -> UpAxis {
 
 /// Reads the asset at `path` (a mesh file, a URDF, or a folder holding one URDF) and returns it
 /// in the service frame: scaled by `metres_per_unit`, then rotated from the input's up axis to
-/// Z up ((x, y, z) -> (x, -z, y) for Y up). Referenced files must lie inside the asset's
+/// Z up ((x, y, z) -> (x, -z, y) for Y up), then, if asked, without its declared joints and
+/// rotated by [`IngestOptions::rotation`]. Referenced files must lie inside the asset's
 /// directory (for URDF: inside the URDF's directory's parent).
 pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAsset> {
     options.validate()?;
@@ -96,6 +97,12 @@ pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAs
     session.check_triangles(&main, asset.triangle_count())?;
     let up_axis = options.up_axis.unwrap_or(default_up_axis(format));
     asset.transform(&to_service_frame(up_axis, options.metres_per_unit));
+    if options.ignore_joints {
+        asset.joints.clear();
+    }
+    if let Some(rotation) = &options.rotation {
+        asset.transform(&DMat4::from_quat(rotation.rotated_from_input));
+    }
     let dropped_degenerate_triangles = session.dropped_degenerate;
     let warnings = std::mem::take(&mut session.warnings);
     Ok(LoadedAsset {

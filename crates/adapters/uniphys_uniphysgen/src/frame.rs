@@ -31,28 +31,37 @@ impl CoordinateFrame {
     /// one frame. With no part (the `object_level` task) the shift is the object's minimum.
     #[must_use]
     pub fn from_clouds(object: &PointCloud, parts: &[&PointCloud]) -> Self {
-        let bounds = Aabb::from_points(&object.points);
-        let (center, scale) = if bounds.is_empty() {
-            (DVec3::ZERO, 1.0)
-        } else {
-            let half = (bounds.max - bounds.min) / 2.0;
-            let scale = half.max_element();
-            (
-                (bounds.max + bounds.min) / 2.0,
-                if scale < 1e-12 { 1.0 } else { scale },
-            )
-        };
-        let centred = |p: &DVec3| (*p - center) / (scale + SCALE_EPSILON);
+        let frame = Self::from_object_bounds(Aabb::from_points(&object.points));
         let min_bound = std::iter::once(object)
             .chain(parts.iter().copied())
             .flat_map(|c| c.points.iter())
-            .map(centred)
+            .map(|p| (*p - frame.center_in_source_m) / (frame.scale_m + SCALE_EPSILON))
             .reduce(DVec3::min)
             .unwrap_or(DVec3::ZERO);
+        Self { min_bound, ..frame }
+    }
+
+    /// The frame of an object given by its AABB alone (the `object_level` task, or a part that
+    /// lies inside the object): AABB centre, largest half-extent as scale (1.0 below 1e-12),
+    /// shifted by the AABB's minimum corner so that the object spans `[0, 2]` along its longest
+    /// side. An empty AABB gives the identity-like frame (centre 0, scale 1, no shift).
+    #[must_use]
+    pub fn from_object_bounds(bounds: Aabb) -> Self {
+        if bounds.is_empty() {
+            return Self {
+                center_in_source_m: DVec3::ZERO,
+                scale_m: 1.0,
+                min_bound: DVec3::ZERO,
+            };
+        }
+        let half = (bounds.max - bounds.min) / 2.0;
+        let largest = half.max_element();
+        let scale = if largest < 1e-12 { 1.0 } else { largest };
+        let center = (bounds.max + bounds.min) / 2.0;
         Self {
             center_in_source_m: center,
             scale_m: scale,
-            min_bound,
+            min_bound: (bounds.min - center) / (scale + SCALE_EPSILON),
         }
     }
 
@@ -174,6 +183,18 @@ mod tests {
         let frame = CoordinateFrame::from_clouds(&object, &[&part]);
         assert!((frame.min_bound.x + 2.0).abs() < 1e-9);
         assert!((frame.point_source_to_model(DVec3::new(-2.0, 1.0, 0.5)).x).abs() < 1e-12);
+    }
+
+    #[test]
+    fn frame_from_bounds_equals_frame_from_the_corner_cloud() {
+        let object = cloud(&[[0.0, 0.0, 0.0], [4.0, 2.0, 1.0]]);
+        let bounds = Aabb::from_points(&object.points);
+        assert_eq!(
+            CoordinateFrame::from_object_bounds(bounds),
+            CoordinateFrame::from_clouds(&object, &[])
+        );
+        let empty = CoordinateFrame::from_object_bounds(Aabb::EMPTY);
+        assert_eq!((empty.scale_m, empty.min_bound), (1.0, DVec3::ZERO));
     }
 
     #[test]
