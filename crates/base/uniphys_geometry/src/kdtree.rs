@@ -3,25 +3,39 @@ use glam::DVec3;
 /// Ranges at most this long are scanned linearly.
 const LEAF_SIZE: usize = 8;
 
-/// A static kd-tree over points for nearest-neighbour distance queries.
+/// A static kd-tree over points for nearest-neighbour distance queries (exact, Euclidean).
 ///
 /// Implicit layout: the points are reordered so that in every range `[lo, hi)` longer than a
 /// leaf, the median `mid = (lo + hi) / 2` splits the range along `axes[mid]` (the axis of
 /// largest spread), smaller coordinates left.
-pub(crate) struct KdTree {
+pub struct KdTree {
     points: Vec<DVec3>,
     axes: Vec<u8>,
 }
 
 impl KdTree {
     /// Builds the tree in O(n log n).
+    #[must_use]
     pub fn new(mut points: Vec<DVec3>) -> Self {
         let mut axes = vec![0u8; points.len()];
         build(&mut points, &mut axes);
         Self { points, axes }
     }
 
+    /// Number of points in the tree.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Whether the tree holds no point.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
     /// Distance from `q` to the nearest point; infinite for an empty tree.
+    #[must_use]
     pub fn nearest_distance(&self, q: DVec3) -> f64 {
         let mut best = f64::INFINITY;
         self.search(q, 0, self.points.len(), &mut best);

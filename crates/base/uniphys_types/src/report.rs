@@ -1,3 +1,5 @@
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 /// Outcome of one check.
@@ -49,6 +51,10 @@ impl ReportSection {
 pub struct VerificationReport {
     /// Sections, in the order they ran.
     pub sections: Vec<ReportSection>,
+    /// The numbers behind the checks: by subject (e.g. `joint hinge_door`), then by metric name
+    /// (names carry their unit, e.g. `max_penetration_growth_m`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub metrics: BTreeMap<String, BTreeMap<String, f64>>,
 }
 
 impl VerificationReport {

@@ -1,9 +1,8 @@
-//! Checks run on the exported model: what simulators need (checklist 2.6) and the quick
-//! intrinsic checks of the reference's levels 0-3. Full verification in simulation is a stage
-//! of its own.
+//! Checks run on the exported model: what simulators need (checklist 2.6). Intrinsic and
+//! articulation verification are a stage of their own (`uniphys_verify`).
 
 use uniphys_geometry::{DMat3, MassProperties, TriMesh, inertia_is_physical};
-use uniphys_types::{AssetRecord, CheckOutcome, CheckResult, JointKind, PartRecord, ReportSection};
+use uniphys_types::{AssetRecord, CheckOutcome, CheckResult, JointKind, ReportSection};
 
 fn check(
     check: &str,
@@ -96,96 +95,4 @@ pub(crate) fn export_checks(record: &AssetRecord, colliders: &[Vec<TriMesh>]) ->
         name: "export".into(),
         checks,
     }
-}
-
-/// Quick intrinsic checks per part: feasible values (level 0), material prior (level 1, all five
-/// properties), hardness/modulus ratio (level 2), friction of interaction surfaces (level 3).
-pub(crate) fn intrinsic_checks(record: &AssetRecord) -> ReportSection {
-    let mut checks = Vec::new();
-    for part in &record.parts {
-        checks.extend(part_intrinsic_checks(part));
-    }
-    ReportSection {
-        name: "intrinsic".into(),
-        checks,
-    }
-}
-
-pub(crate) fn part_intrinsic_checks(part: &PartRecord) -> Vec<CheckResult> {
-    let p = &part.properties;
-    let subject = part.id.to_string();
-    let (rho, e, h, nu, mu) = (
-        p.density_kg_per_m3.value,
-        p.youngs_modulus_pa.value,
-        p.hardness_pa.value,
-        p.poisson_ratio.value,
-        p.friction_coefficient.value,
-    );
-    let feasible = (0.0..=3.0).contains(&mu)
-        && e > 0.0
-        && e <= 1e12
-        && nu > -1.0
-        && nu < 0.5
-        && rho > 0.0
-        && rho <= 30000.0;
-    let mut out = vec![check(
-        "feasible_values",
-        &subject,
-        feasible,
-        "all values feasible",
-        format!("rho={rho}, E={e}, nu={nu}, mu={mu}"),
-    )];
-    let category = p.material.value.category;
-    match category.prior() {
-        Some(prior) => {
-            let outside: Vec<&str> = [
-                ("density", prior.density_kg_per_m3.contains(rho)),
-                ("young", prior.youngs_modulus_pa.contains(e)),
-                ("hardness", prior.hardness_pa.contains(h)),
-                ("poisson", prior.poisson_ratio.contains(nu)),
-                ("friction", prior.friction_coefficient.contains(mu)),
-            ]
-            .into_iter()
-            .filter(|(_, ok)| !ok)
-            .map(|(k, _)| k)
-            .collect();
-            out.push(check(
-                "material_prior",
-                &subject,
-                outside.is_empty(),
-                format!("inside the {} prior", category.as_str()),
-                format!(
-                    "outside the {} prior: {}",
-                    category.as_str(),
-                    outside.join(", ")
-                ),
-            ));
-        }
-        None => out.push(CheckResult {
-            check: "material_prior".into(),
-            subject: subject.clone(),
-            outcome: CheckOutcome::Skipped,
-            message: "material `other` has no prior".into(),
-        }),
-    }
-    if category.hardness_ratio_applies() && e > 0.0 && h > 0.0 {
-        let ratio = h / e;
-        out.push(check(
-            "hardness_modulus_ratio",
-            &subject,
-            (1e-3..=1e-1).contains(&ratio),
-            format!("H/E = {ratio:.2e}"),
-            format!("H/E = {ratio:.2e} outside [1e-3, 1e-1]"),
-        ));
-    }
-    if p.affordance_rank.value <= 2 || p.graspable.value {
-        out.push(check(
-            "interaction_friction",
-            &subject,
-            mu >= 0.2,
-            format!("mu = {mu}"),
-            format!("interaction surface with low friction mu = {mu}"),
-        ));
-    }
-    out
 }

@@ -86,6 +86,7 @@ pub(crate) fn report_artifact(
         "provenance_counts": counts,
         "values": rows.iter().map(|r| json!({ "subject": r.subject, "field": r.field, "value": r.value, "provenance": r.provenance })).collect::<Vec<_>>(),
         "sections": report.sections,
+        "metrics": report.metrics,
         "notes": notes,
     });
     Artifact::json("report.json", &value)

@@ -6,7 +6,10 @@ use std::collections::BTreeSet;
 use uniphys_geometry::{Aabb, ContactParams, DVec3, TriMesh, contact_region, min_distance_m};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 
+use uniphys_verify::Scene;
+
 use crate::dynamics::{RigidMass, joint_dynamics, max_stable_damping};
+use crate::hypotheses::{SCREEN_SAMPLES, Subject, best_joint};
 use crate::joint_geometry::{hinge, slide};
 use crate::roles::{Role, role_of};
 use crate::{BUILTIN_PROVIDER, GroundError, GroundResult};
@@ -22,6 +25,9 @@ pub struct PartInput<'a> {
     pub volume_m3: f64,
     /// Mass properties in the object frame.
     pub mass: RigidMass,
+    /// Convex colliders (closed hulls) in the object frame: the sweeps that choose joints
+    /// measure interpenetration on them.
+    pub colliders: &'a [TriMesh],
 }
 
 /// The articulation tree: a root fixed to the world and one joint per other part.
@@ -40,7 +46,8 @@ fn pid(i: usize) -> PartId {
 }
 
 /// Builds the articulation. With `declared` joints (an articulated input) they are kept and
-/// completed; otherwise the heuristic proposes them from names and geometry.
+/// completed; otherwise part names say which parts slide or turn, and for each of them the joint
+/// is chosen among hypotheses from the contact geometry by sweeping them (see `hypotheses`).
 pub fn articulate(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<Articulation> {
     if parts.is_empty() {
         return Err(GroundError::NoParts);
@@ -150,12 +157,54 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
         .fold(Aabb::EMPTY, |a, b| a.union(*b))
         .diagonal();
     let mut notes = Vec::new();
+    let meshes: Vec<TriMesh> = parts.iter().map(|p| p.mesh.clone()).collect();
+    let colliders: Vec<Vec<TriMesh>> = parts.iter().map(|p| p.colliders.to_vec()).collect();
+    let scene = Scene::new(&meshes, &colliders, SCREEN_SAMPLES)
+        .map_err(|e| notes.push(format!("articulation sweeps unavailable: {e}")))
+        .ok();
     let mut joints = Vec::new();
     for (i, parent) in parents.iter().enumerate() {
         let Some(p) = *parent else { continue };
         let provenance = |what: &str| {
             Provenance::provider(BUILTIN_PROVIDER, format!("geometric heuristic: {what}"))
         };
+        let searched = match roles[i] {
+            Role::Sliding | Role::Hinged => scene.as_ref().and_then(|scene| {
+                let mut moving = vec![i];
+                moving.extend((0..n).filter(|&k| carried_by(k, i, &parents)));
+                let kind = if roles[i] == Role::Sliding {
+                    JointKind::Prismatic
+                } else {
+                    JointKind::Revolute
+                };
+                let subject = Subject {
+                    child: i,
+                    parent: p,
+                    moving: &moving,
+                    kind,
+                };
+                best_joint(scene, &subject)
+            }),
+            _ => None,
+        };
+        if let Some(found) = searched {
+            notes.push(format!(
+                "part {:?}: {} chosen among {} swept hypotheses (score {:.3}, deepest penetration {:.4} m)",
+                parts[i].name,
+                kind_word(found.joint.kind),
+                found.hypotheses,
+                found.score,
+                found.metrics.max_penetration_growth_m
+            ));
+            joints.push(found.joint);
+            continue;
+        }
+        if matches!(roles[i], Role::Sliding | Role::Hinged) {
+            notes.push(format!(
+                "part {:?}: no contact with its parent to sweep from; joint from its bounding box",
+                parts[i].name
+            ));
+        }
         let joint = match roles[i] {
             Role::Sliding => {
                 let h = slide(&bounds[i], &bounds[p]);
@@ -220,6 +269,23 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
 
 fn parent_is(k: usize, i: usize, roles: &[Role], parent: &[Option<usize>]) -> bool {
     roles[k] == Role::Attachment && parent[k] == Some(i)
+}
+
+/// Whether part `k` hangs (directly or through other parts) from part `i`.
+fn carried_by(k: usize, i: usize, parent: &[Option<usize>]) -> bool {
+    let mut at = parent[k];
+    let mut hops = 0;
+    while let Some(p) = at {
+        if p == i {
+            return true;
+        }
+        hops += 1;
+        if hops > parent.len() {
+            return false;
+        }
+        at = parent[p];
+    }
+    false
 }
 
 fn movable_joint(

@@ -5,12 +5,16 @@
 //! - materials from glTF/MTL material names, then part names ([`ground_part`]);
 //! - properties from typical values of known subtypes or the centre of the material prior;
 //! - object name, category, dimensions and mass ([`object_properties`]);
-//! - joints: declared ones completed, or a geometric heuristic from part names and bounding
-//!   boxes ([`articulate`]); passive dynamics from the moving parts' inertia ([`joint_dynamics`]).
+//! - joints: declared ones completed; otherwise part names say which parts slide or turn and the
+//!   joint of each is chosen by sweeping hypotheses (candidate axes x pivots x direction from the
+//!   contact with its parent) and keeping the one that penetrates least and keeps contact, with
+//!   simple priors ([`articulate`]); passive dynamics from the moving parts' inertia
+//!   ([`joint_dynamics`]).
 
 mod articulate;
 mod dynamics;
 mod error;
+mod hypotheses;
 mod intrinsic;
 mod joint_geometry;
 mod keywords;

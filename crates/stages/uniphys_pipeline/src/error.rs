@@ -16,6 +16,9 @@ pub enum PipelineError {
     /// Grounding failed.
     #[error(transparent)]
     Ground(#[from] uniphys_ground::GroundError),
+    /// Verification could not run (not: the asset failed a check; that is in the report).
+    #[error(transparent)]
+    Verify(#[from] uniphys_verify::VerifyError),
     /// Export failed.
     #[error(transparent)]
     Export(#[from] uniphys_export::ExportError),

@@ -5,7 +5,7 @@
 //! The articulation tree (which part hangs from which) still comes from the input or the
 //! geometric heuristic: the model predicts how a part moves, not what it is attached to.
 
-use uniphys_geometry::{DMat3, DVec3, MeshAsset};
+use uniphys_geometry::{DMat3, DVec3, MeshAsset, TriMesh};
 use uniphys_ground::{PartInput, RigidMass, articulate};
 use uniphys_types::{AssetRecord, Estimate, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::restore::{restore_motion, restore_object, restore_physics};
@@ -45,6 +45,7 @@ impl Default for LearnedOptions {
 pub(crate) fn ground_learned(
     asset: &MeshAsset,
     prepared: &[Prepared],
+    colliders: &[Vec<TriMesh>],
     record: &mut AssetRecord,
     options: &LearnedOptions,
 ) -> PipelineResult<Vec<String>> {
@@ -133,11 +134,13 @@ pub(crate) fn ground_learned(
         .iter()
         .zip(prepared)
         .zip(&masses)
-        .map(|((p, prep), mass)| PartInput {
+        .zip(colliders)
+        .map(|(((p, prep), mass), hulls)| PartInput {
             name: &p.name,
             mesh: &p.mesh,
             volume_m3: prep.mass.volume_m3,
             mass: *mass,
+            colliders: hulls,
         })
         .collect();
     let articulation = articulate(&parts, &declared)?;

@@ -7,21 +7,24 @@ pub enum Stage {
     Ingest,
     /// Frame normalisation and per-part mass properties.
     Prepare,
-    /// Materials, properties and articulation (built-in grounder).
-    Ground,
     /// Convex decomposition of every part.
     Colliders,
+    /// Materials, properties and articulation (built-in grounder).
+    Ground,
+    /// Intrinsic checks and articulation sweeps, with correction of failed joints.
+    Verify,
     /// URDF, MJCF, meshes, record and report.
     Export,
 }
 
 impl Stage {
     /// All stages in run order.
-    pub const ALL: [Stage; 5] = [
+    pub const ALL: [Stage; 6] = [
         Stage::Ingest,
         Stage::Prepare,
-        Stage::Ground,
         Stage::Colliders,
+        Stage::Ground,
+        Stage::Verify,
         Stage::Export,
     ];
 
@@ -33,6 +36,7 @@ impl Stage {
             Stage::Prepare => "prepare",
             Stage::Ground => "ground",
             Stage::Colliders => "colliders",
+            Stage::Verify => "verify",
             Stage::Export => "export",
         }
     }

@@ -1,4 +1,8 @@
 //! `run`: the whole pipeline on one asset, in process, with the built-in grounder.
+//!
+//! Stages: ingest, prepare (frame, mass properties), colliders (convex decomposition), ground
+//! (materials, properties, articulation chosen by sweeps), verify (intrinsic levels 0-4,
+//! articulation sweeps with correction), export.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -19,6 +23,7 @@ use uniphys_types::{
 use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::parallel::par_map;
+use crate::verify::{VerifyOptions, verify};
 use crate::{PipelineError, PipelineResult, Progress, Stage};
 
 /// Options of an in-process run.
@@ -34,6 +39,8 @@ pub struct RunOptions {
     pub touching_fraction: f64,
     /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
     pub learned: Option<LearnedOptions>,
+    /// Verification parameters.
+    pub verify: VerifyOptions,
 }
 
 impl Default for RunOptions {
@@ -44,6 +51,7 @@ impl Default for RunOptions {
             convex: ConvexParams::default(),
             touching_fraction: 0.005,
             learned: None,
+            verify: VerifyOptions::default(),
         }
     }
 }
@@ -164,20 +172,6 @@ pub fn run(
         ))
     })?;
 
-    let (record, articulation_notes) = clock.stage(Stage::Ground, || {
-        let (mut record, mut notes) = ground(&name, source, &asset, &prepared)?;
-        if let Some(learned) = &options.learned {
-            notes.extend(ground_learned(&asset, &prepared, &mut record, learned)?);
-        }
-        let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
-        let summary = format!(
-            "{} movable joints, object mass {:.3} kg ({})",
-            movable, record.object.mass_kg.value, record.object.category.value
-        );
-        Ok(((record, notes), summary))
-    })?;
-    notes.extend(articulation_notes);
-
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
         let done = AtomicUsize::new(0);
@@ -197,6 +191,44 @@ pub fn run(
         Ok((hulls, format!("{count} convex hulls for {total} parts")))
     })?;
 
+    let (record, articulation_notes) = clock.stage(Stage::Ground, || {
+        let (mut record, mut notes) = ground(&name, source, &asset, &prepared, &colliders)?;
+        if let Some(learned) = &options.learned {
+            notes.extend(ground_learned(
+                &asset,
+                &prepared,
+                &colliders,
+                &mut record,
+                learned,
+            )?);
+        }
+        let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
+        let summary = format!(
+            "{} movable joints, object mass {:.3} kg ({})",
+            movable, record.object.mass_kg.value, record.object.category.value
+        );
+        Ok(((record, notes), summary))
+    })?;
+    notes.extend(articulation_notes);
+
+    let (record, verified) = clock.stage(Stage::Verify, || {
+        let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
+        let verified = verify(record, &meshes, &colliders, &options.verify)?;
+        let summary = format!(
+            "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
+            verified.joints_passed,
+            verified.joints_swept,
+            verified.corrections.len(),
+            if verified.intrinsic_passed {
+                "passed"
+            } else {
+                "failed"
+            }
+        );
+        Ok(((verified.record.clone(), verified), summary))
+    })?;
+    notes.extend(verified.corrections.iter().cloned());
+
     let (artifacts, report) = clock.stage(Stage::Export, || {
         let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
         let colors: Vec<[f32; 4]> = asset
@@ -209,6 +241,8 @@ pub fn run(
         report
             .sections
             .push(ingest_section(dropped, &ingest_warnings));
+        report.sections.extend(verified.sections.iter().cloned());
+        report.metrics.extend(verified.metrics.clone());
         let out = export(&ExportInput {
             record: &record,
             part_meshes: &meshes,
@@ -253,6 +287,7 @@ fn ground(
     source: uniphys_types::SourceInfo,
     asset: &MeshAsset,
     prepared: &[Prepared],
+    colliders: &[Vec<TriMesh>],
 ) -> PipelineResult<(AssetRecord, Vec<String>)> {
     let mut parts = Vec::with_capacity(asset.parts.len());
     let mut rigid = Vec::with_capacity(asset.parts.len());
@@ -291,11 +326,13 @@ fn ground(
         .iter()
         .zip(prepared)
         .zip(&rigid)
-        .map(|((part, prep), mass)| PartInput {
+        .zip(colliders)
+        .map(|(((part, prep), mass), hulls)| PartInput {
             name: &part.name,
             mesh: &part.mesh,
             volume_m3: prep.mass.volume_m3,
             mass: *mass,
+            colliders: hulls,
         })
         .collect();
     let articulation = articulate(&inputs, &asset.joints)?;

@@ -1,5 +1,6 @@
 //! The whole in-process pipeline on every example asset, written as GLB and read back: the
-//! built-in grounder must find the ground-truth joints and the export must pass its checks.
+//! built-in grounder must find the ground-truth joints (names say which parts move, sweeps choose
+//! how) and verification and export must pass their checks.
 
 use uniphys_examples::{GlbFrame, catalogue, write_glb};
 use uniphys_geometry::DVec3;
@@ -10,7 +11,7 @@ const MAX_AXIS_ERROR_DEG: f64 = 10.0;
 const MAX_PIVOT_ERROR_M: f64 = 0.03;
 
 #[test]
-fn every_example_runs_and_the_heuristic_finds_its_joints() {
+fn every_example_runs_and_the_grounder_finds_its_joints() {
     let dir = tempfile::tempdir().unwrap();
     for example in catalogue() {
         let path = dir.path().join(format!("{}.glb", example.name));
@@ -80,11 +81,32 @@ fn every_example_runs_and_the_heuristic_finds_its_joints() {
                 );
             }
         }
+        // Every movable joint was swept; its metrics are in the report.
+        let swept = out
+            .report
+            .sections
+            .iter()
+            .find(|s| s.name == "articulation")
+            .expect("articulation section");
+        let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
+        assert_eq!(swept.checks.len(), movable, "{}", example.name);
+        for joint in record.joints.iter().filter(|j| j.kind.is_movable()) {
+            let metrics = &out.report.metrics[&format!("joint {}", joint.name)];
+            assert_eq!(metrics["steps"], 200.0, "{}", example.name);
+        }
+        assert!(out.report.metrics["object"]["mass_relative_error"] < 1e-9);
         // Stage timings are reported for every stage, in order.
         let stages: Vec<&str> = out.timings.iter().map(|(s, _)| s.name()).collect();
         assert_eq!(
             stages,
-            ["ingest", "prepare", "ground", "colliders", "export"]
+            [
+                "ingest",
+                "prepare",
+                "colliders",
+                "ground",
+                "verify",
+                "export"
+            ]
         );
         let paths: Vec<&str> = out.artifacts.iter().map(|a| a.path.as_str()).collect();
         for required in [

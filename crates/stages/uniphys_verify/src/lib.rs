@@ -1,0 +1,35 @@
+//! Verification of grounded assets (stage 6 of the product):
+//!
+//! - intrinsic checks per part and object, levels 0-4 of the reference ([`verify_intrinsic`]);
+//! - articulation sweeps: each joint moved through its range, contact with its parent and
+//!   interpenetration of convex colliders measured with parry ([`sweep`], [`Scene`]);
+//! - feedback correction of failed joints ([`correct_joint`]) from the articulation candidates
+//!   of the contact geometry ([`articulation_candidates`]), also used by grounders to enumerate
+//!   hypotheses;
+//! - the whole articulation at once ([`verify_articulation`]).
+//!
+//! Every distance threshold is a fraction of the object's diagonal, so results do not depend on
+//! the object's scale or pose.
+
+mod articulation;
+mod candidates;
+mod correct;
+mod error;
+mod intrinsic;
+mod motion;
+mod patch;
+mod penetration;
+mod scene;
+mod sweep;
+
+pub use articulation::{ArticulationOutcome, verify_articulation};
+pub use candidates::{
+    AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates,
+};
+pub use correct::{Correction, correct_joint};
+pub use error::{VerifyError, VerifyResult};
+pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
+pub use motion::{JointMotion, sweep_coordinates};
+pub use patch::{PatchParams, box_axes, principal_axes};
+pub use scene::{Scene, moving_group};
+pub use sweep::{SweepMetrics, SweepParams, sweep};

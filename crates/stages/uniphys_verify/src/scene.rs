@@ -1,0 +1,86 @@
+//! The parts of an asset prepared for sweeps: surface samples and convex colliders.
+
+use std::collections::BTreeSet;
+
+use uniphys_geometry::{Aabb, DVec3, TriMesh, sample_points};
+use uniphys_types::{Joint, PartId};
+
+use crate::penetration::Colliders;
+use crate::{VerifyError, VerifyResult};
+
+/// Part geometry in the object frame, ready for sweeps.
+pub struct Scene {
+    /// Surface samples per part, metres.
+    pub(crate) samples: Vec<Vec<DVec3>>,
+    pub(crate) colliders: Colliders,
+    /// Diagonal of the whole object's bounds, metres: the unit of every relative threshold.
+    pub diagonal_m: f64,
+}
+
+impl Scene {
+    /// Samples `samples_per_part` surface points of each part (seeded by the part index) and
+    /// builds its convex colliders (`colliders[part]`, closed convex hulls).
+    ///
+    /// Errors: meshes and colliders of different lengths; an empty or flat object.
+    pub fn new(
+        meshes: &[TriMesh],
+        colliders: &[Vec<TriMesh>],
+        samples_per_part: usize,
+    ) -> VerifyResult<Self> {
+        if meshes.len() != colliders.len() {
+            return Err(VerifyError::PartCountMismatch {
+                parts: meshes.len(),
+                meshes: meshes.len(),
+                colliders: colliders.len(),
+            });
+        }
+        let bounds = meshes.iter().fold(Aabb::EMPTY, |a, m| a.union(m.bounds()));
+        let diagonal_m = bounds.diagonal();
+        if !(diagonal_m.is_finite() && diagonal_m > 0.0) {
+            return Err(VerifyError::InvalidParameter(
+                "the object has no extent; nothing to verify".to_owned(),
+            ));
+        }
+        let samples = meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| sample_points(m, samples_per_part, 0x5eed_0000 + i as u64))
+            .collect();
+        Ok(Self {
+            samples,
+            colliders: Colliders::new(colliders, bounds.center()),
+            diagonal_m,
+        })
+    }
+
+    /// Number of parts.
+    #[must_use]
+    pub fn part_count(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Surface samples of the given parts, concatenated.
+    #[must_use]
+    pub fn points_of(&self, parts: &[usize]) -> Vec<DVec3> {
+        parts
+            .iter()
+            .flat_map(|&p| self.samples[p].iter().copied())
+            .collect()
+    }
+}
+
+/// The parts that move with `joint.child`: the child and everything below it in `joints`,
+/// sorted.
+#[must_use]
+pub fn moving_group(joints: &[Joint], child: PartId) -> Vec<usize> {
+    let mut out = BTreeSet::from([child.0 as usize]);
+    let mut stack = vec![child];
+    while let Some(p) = stack.pop() {
+        for j in joints.iter().filter(|j| j.parent == p) {
+            if out.insert(j.child.0 as usize) {
+                stack.push(j.child);
+            }
+        }
+    }
+    out.into_iter().collect()
+}
