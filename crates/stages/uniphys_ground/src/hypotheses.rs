@@ -60,40 +60,91 @@ pub(crate) fn best_joint(scene: &Scene, subject: &Subject<'_>) -> Option<Scored>
         steps: SCREEN_STEPS,
         ..SweepParams::default()
     };
-    let mut best: Option<Scored> = None;
-    let mut count = 0;
     let handles: Vec<DVec3> = subject
         .moving
         .iter()
         .filter(|&&p| p != subject.child)
         .map(|&p| mean(&scene.points_of(&[p])))
         .collect();
-    for (joint, prior) in hypotheses(
+    let mut all = hypotheses(
         subject,
         &candidates,
         &child_points,
         &handles,
         part_axes,
         outward,
-    ) {
-        let Ok(metrics) = sweep(scene, &joint, subject.moving, &params) else {
+    );
+    // Snapped pivots often land on the same hinge line: sweep each distinct line once (the
+    // first keeps its prior). A line is its direction and its point nearest the object centre.
+    let mut seen = std::collections::BTreeSet::new();
+    let key = |j: &Joint| {
+        let axis = DVec3::from_array(j.axis_in_object);
+        let q = |x: f64| (x / (1e-3 * scene.diagonal_m)).round() as i64;
+        let foot = if j.kind == JointKind::Prismatic {
+            DVec3::ZERO
+        } else {
+            (DVec3::from_array(j.pivot_in_object_m) - scene.centre_m).reject_from_normalized(axis)
+        };
+        (
+            axis.to_array().map(|a| (a * 1e4).round() as i64),
+            foot.to_array().map(q),
+        )
+    };
+    all.retain(|(j, _)| seen.insert(key(j)));
+    let swept = parallel_map(&all, |(joint, prior)| {
+        sweep(scene, joint, subject.moving, &params)
+            .ok()
+            .map(|m| (sweep_penalty(&m, scene.diagonal_m, &params) + prior, m))
+    });
+    let count = swept.iter().flatten().count();
+    // The first hypothesis with the lowest score wins, so the choice does not depend on threads.
+    let mut best: Option<Scored> = None;
+    for ((joint, _), result) in all.into_iter().zip(swept) {
+        let Some((score, metrics)) = result else {
             continue;
         };
-        count += 1;
-        let score = sweep_penalty(&metrics, scene.diagonal_m, &params) + prior;
         if best.as_ref().is_none_or(|b| score < b.score - 1e-9) {
             best = Some(Scored {
                 joint,
                 score,
                 metrics,
-                hypotheses: 0,
+                hypotheses: count,
             });
         }
     }
-    best.map(|b| Scored {
-        hypotheses: count,
-        ..b
-    })
+    best
+}
+
+/// `f` over `items` on all cores; results in input order.
+fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(items.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut out = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        out.push((i, f(item)));
+                    }
+                    out
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| {
+                w.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, r)| r).collect()
 }
 
 fn mean(points: &[DVec3]) -> DVec3 {

@@ -15,6 +15,8 @@ pub struct Scene {
     pub(crate) colliders: Colliders,
     /// Diagonal of the whole object's bounds, metres: the unit of every relative threshold.
     pub diagonal_m: f64,
+    /// Centre of the whole object's bounds, object frame, metres.
+    pub centre_m: DVec3,
 }
 
 impl Scene {
@@ -50,6 +52,7 @@ impl Scene {
             samples,
             colliders: Colliders::new(colliders, bounds.center()),
             diagonal_m,
+            centre_m: bounds.center(),
         })
     }
 
