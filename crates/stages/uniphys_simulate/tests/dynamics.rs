@@ -291,3 +291,22 @@ fn a_heavy_knob_with_almost_no_rotational_inertia_spins_on_its_own() {
         assert_eq!(outcome(&report, name), CheckOutcome::Pass, "{name}");
     }
 }
+
+#[test]
+fn a_continuous_knob_is_driven_a_quarter_turn_each_way() {
+    let mut asset = assets::two_door_cabinet(0.0);
+    let knob = &mut asset.record.joints[3];
+    knob.kind = JointKind::Continuous;
+    knob.limits = None;
+    let report = check(&asset, &[(PartId(1), PartId(2))]);
+    let knob = report.joint("knob_turn").expect("knob joint");
+    assert_eq!(knob.verdict.outcome, CheckOutcome::Pass, "{report:#?}");
+    let quarter = std::f64::consts::FRAC_PI_2;
+    assert_eq!(knob.drive.targets, [-quarter, quarter]);
+    assert!(
+        knob.drive
+            .target_errors
+            .iter()
+            .all(|e| *e <= knob.rest.tolerance)
+    );
+}
