@@ -1,0 +1,86 @@
+//! Tenants and their API keys. Keys are stored as SHA-256 digests: a leaked table does not leak
+//! keys, and lookup is one indexed equality (keys are long random tokens, so a fast hash is right).
+
+use sha2::{Digest, Sha256};
+
+use super::QueueStore;
+use crate::db::{Sql, args};
+use crate::{QueueError, QueueResult, TenantId};
+
+static INSERT_TENANT: Sql =
+    Sql::new("INSERT INTO tenants (name, created_at_ms) VALUES ($1, {now}) RETURNING id");
+static INSERT_KEY: Sql = Sql::new(
+    "INSERT INTO api_keys (tenant_id, key_sha256, label, created_at_ms) VALUES ($1, $2, $3, {now})",
+);
+static FIND_KEY: Sql =
+    Sql::new("SELECT tenant_id FROM api_keys WHERE key_sha256 = $1 AND revoked_at_ms IS NULL");
+static REVOKE_KEY: Sql = Sql::new(
+    "UPDATE api_keys SET revoked_at_ms = {now} WHERE key_sha256 = $1 AND revoked_at_ms IS NULL",
+);
+
+fn key_digest(api_key: &str) -> Vec<u8> {
+    Sha256::digest(api_key.as_bytes()).to_vec()
+}
+
+fn unique_to_exists(e: QueueError, what: &'static str) -> QueueError {
+    match &e {
+        QueueError::Database(sqlx::Error::Database(db)) if db.is_unique_violation() => {
+            QueueError::AlreadyExists { what }
+        }
+        QueueError::Database(sqlx::Error::Database(db)) if db.is_foreign_key_violation() => {
+            QueueError::Invalid(format!("{what} refers to an unknown tenant"))
+        }
+        _ => e,
+    }
+}
+
+impl QueueStore {
+    /// Creates a tenant; `AlreadyExists` if the name is taken.
+    pub async fn create_tenant(&self, name: &str) -> QueueResult<TenantId> {
+        let mut session = self.db.write_one().await?;
+        let row = session
+            .fetch_one(&INSERT_TENANT, args![name])
+            .await
+            .map_err(|e| unique_to_exists(e, "tenant"))?;
+        Ok(TenantId(row.i64("id")?))
+    }
+
+    /// Stores the digest of `api_key` for `tenant`. The caller generates the key (at least 128
+    /// random bits) and shows it once; it is not recoverable from the store.
+    pub async fn add_api_key(
+        &self,
+        tenant: TenantId,
+        api_key: &str,
+        label: &str,
+    ) -> QueueResult<()> {
+        if api_key.len() < 16 {
+            return Err(QueueError::Invalid(
+                "an API key needs at least 16 bytes".into(),
+            ));
+        }
+        let mut session = self.db.write_one().await?;
+        session
+            .execute(&INSERT_KEY, args![tenant.0, key_digest(api_key), label])
+            .await
+            .map_err(|e| unique_to_exists(e, "api key"))?;
+        Ok(())
+    }
+
+    /// Returns the tenant of a valid (stored, not revoked) API key.
+    pub async fn tenant_for_api_key(&self, api_key: &str) -> QueueResult<Option<TenantId>> {
+        let mut session = self.db.read().await?;
+        let row = session
+            .fetch_optional(&FIND_KEY, args![key_digest(api_key)])
+            .await?;
+        row.map(|r| r.i64("tenant_id").map(TenantId)).transpose()
+    }
+
+    /// Revokes an API key; returns false if it was unknown or already revoked.
+    pub async fn revoke_api_key(&self, api_key: &str) -> QueueResult<bool> {
+        let mut session = self.db.write_one().await?;
+        Ok(session
+            .execute(&REVOKE_KEY, args![key_digest(api_key)])
+            .await?
+            > 0)
+    }
+}
