@@ -19,6 +19,9 @@ pub enum PipelineError {
     /// Verification could not run (not: the asset failed a check; that is in the report).
     #[error(transparent)]
     Verify(#[from] uniphys_verify::VerifyError),
+    /// The dynamic check could not run (not: the asset failed it; that is in the report).
+    #[error(transparent)]
+    Simulate(#[from] uniphys_simulate::SimulateError),
     /// Export failed.
     #[error(transparent)]
     Export(#[from] uniphys_export::ExportError),

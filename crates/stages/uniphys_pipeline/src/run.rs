@@ -213,7 +213,8 @@ pub fn run(
 
     let (record, verified) = clock.stage(Stage::Verify, || {
         let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
-        let verified = verify(record, &meshes, &colliders, &options.verify)?;
+        let touching = touching_pairs(&asset, options.touching_fraction);
+        let verified = verify(record, &meshes, &colliders, &touching, &options.verify)?;
         let summary = format!(
             "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
             verified.joints_passed,

@@ -1,16 +1,17 @@
-//! The verify stage: intrinsic checks (levels 0-4) and articulation sweeps with feedback
-//! correction, on the grounded record.
+//! The verify stage: intrinsic checks (levels 0-4), articulation sweeps with feedback
+//! correction, and the dynamic check in rapier, on the grounded record.
 
 use std::collections::BTreeMap;
 
 use uniphys_geometry::TriMesh;
-use uniphys_types::{AssetRecord, CheckOutcome, ReportSection};
+use uniphys_simulate::{DynamicParams, check_dynamics};
+use uniphys_types::{AssetRecord, CheckOutcome, PartId, ReportSection};
 use uniphys_verify::{Scene, SweepParams, verify_articulation, verify_intrinsic};
 
 use crate::PipelineResult;
 
 /// Parameters of the verify stage.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct VerifyOptions {
     /// Sweep parameters (steps, thresholds relative to the object).
     pub sweep: SweepParams,
@@ -18,15 +19,19 @@ pub struct VerifyOptions {
     pub samples_per_part: usize,
     /// Try to correct joints that fail their sweep.
     pub correct: bool,
+    /// Parameters of the dynamic check; `None` skips it.
+    pub dynamics: Option<DynamicParams>,
 }
 
 impl Default for VerifyOptions {
-    /// The default sweep (200 steps), 1500 samples per part, correction on.
+    /// The default sweep (200 steps), 1500 samples per part, correction on, the default
+    /// dynamic check.
     fn default() -> Self {
         Self {
             sweep: SweepParams::default(),
             samples_per_part: 1500,
             correct: true,
+            dynamics: Some(DynamicParams::default()),
         }
     }
 }
@@ -36,9 +41,10 @@ impl Default for VerifyOptions {
 pub(crate) struct Verified {
     /// The record with corrected joints.
     pub(crate) record: AssetRecord,
-    /// Sections `intrinsic` and `articulation`.
+    /// Sections `intrinsic`, `articulation` and `dynamics`.
     pub(crate) sections: Vec<ReportSection>,
-    /// Numbers behind the checks, by subject.
+    /// Numbers behind the checks, by subject; joint metrics are prefixed `sweep_` and
+    /// `dynamics_`.
     pub(crate) metrics: BTreeMap<String, BTreeMap<String, f64>>,
     /// One line per corrected joint.
     pub(crate) corrections: Vec<String>,
@@ -48,11 +54,13 @@ pub(crate) struct Verified {
 }
 
 /// Runs intrinsic and articulation verification; failed joints are corrected when a variant
-/// passes (the record then carries the corrected joint).
+/// passes (the record then carries the corrected joint); then the dynamic check on the corrected
+/// record, ignoring contacts between `touching_pairs` as the exported MJCF does.
 pub(crate) fn verify(
     mut record: AssetRecord,
     meshes: &[TriMesh],
     colliders: &[Vec<TriMesh>],
+    touching_pairs: &[(PartId, PartId)],
     options: &VerifyOptions,
 ) -> PipelineResult<Verified> {
     let intrinsic = verify_intrinsic(&record);
@@ -68,15 +76,36 @@ pub(crate) fn verify(
         .iter()
         .filter(|c| c.outcome != CheckOutcome::Fail)
         .count();
-    let mut metrics = articulation.metrics.clone();
+    let mut metrics: BTreeMap<String, BTreeMap<String, f64>> = BTreeMap::new();
+    merge_prefixed(&mut metrics, &articulation.metrics, "sweep_");
     metrics.insert("object".to_owned(), intrinsic.metrics.clone());
+    let mut sections = vec![intrinsic.section.clone(), articulation.section];
+    if let Some(params) = &options.dynamics {
+        let dynamics = check_dynamics(&record, colliders, touching_pairs, params)?;
+        merge_prefixed(&mut metrics, &dynamics.metrics(), "dynamics_");
+        sections.push(dynamics.to_report_section());
+    }
     Ok(Verified {
         record,
         intrinsic_passed: intrinsic.section.passed(),
-        sections: vec![intrinsic.section, articulation.section],
+        sections,
         metrics,
         corrections: articulation.corrections,
         joints_swept,
         joints_passed,
     })
+}
+
+/// Adds `from`'s metrics under the same subjects, each name prefixed.
+fn merge_prefixed(
+    into: &mut BTreeMap<String, BTreeMap<String, f64>>,
+    from: &BTreeMap<String, BTreeMap<String, f64>>,
+    prefix: &str,
+) {
+    for (subject, values) in from {
+        let entry = into.entry(subject.clone()).or_default();
+        for (name, value) in values {
+            entry.insert(format!("{prefix}{name}"), *value);
+        }
+    }
 }

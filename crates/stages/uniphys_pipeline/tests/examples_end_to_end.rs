@@ -92,7 +92,12 @@ fn every_example_runs_and_the_grounder_finds_its_joints() {
         assert_eq!(swept.checks.len(), movable, "{}", example.name);
         for joint in record.joints.iter().filter(|j| j.kind.is_movable()) {
             let metrics = &out.report.metrics[&format!("joint {}", joint.name)];
-            assert_eq!(metrics["steps"], 200.0, "{}", example.name);
+            assert_eq!(metrics["sweep_steps"], 200.0, "{}", example.name);
+            assert!(
+                metrics.contains_key("dynamics_drive_budget_s"),
+                "{}: {metrics:?}",
+                example.name
+            );
         }
         assert!(out.report.metrics["object"]["mass_relative_error"] < 1e-9);
         // Stage timings are reported for every stage, in order.
