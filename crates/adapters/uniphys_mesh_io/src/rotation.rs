@@ -27,13 +27,19 @@ impl AssetRotation {
     /// One sentence saying what was applied, for run notes.
     #[must_use]
     pub fn describe(&self) -> String {
-        let q = self.rotated_from_input;
+        // q and -q are the same rotation; the one with w >= 0 has an angle in [0, pi].
+        let q = if self.rotated_from_input.w < 0.0 {
+            -self.rotated_from_input
+        } else {
+            self.rotated_from_input
+        };
         let (axis, angle_rad) = q.to_axis_angle();
-        let seed = self
-            .seed
-            .map_or_else(String::new, |s| format!(" drawn from seed {s}"));
+        let source = self.seed.map_or_else(
+            || "a given rotation".to_owned(),
+            |s| format!("the uniform random rotation of seed {s}"),
+        );
         format!(
-            "whole asset rotated{seed} after unit and up-axis conversion: quaternion (x, y, z, w) = ({:.6}, {:.6}, {:.6}, {:.6}), {:.4} rad about ({:.4}, {:.4}, {:.4})",
+            "whole asset rotated by {source} after unit and up-axis conversion: quaternion (x, y, z, w) = ({:.6}, {:.6}, {:.6}, {:.6}), {:.4} rad about ({:.4}, {:.4}, {:.4})",
             q.x, q.y, q.z, q.w, angle_rad, axis.x, axis.y, axis.z
         )
     }

@@ -10,7 +10,7 @@
 //! our `record.json` (`load_record.rs`), a URDF ingested like a run (`load_mesh_asset.rs`), or a
 //! UniPhys-40K entity (`load_dataset.rs`); `pairing.rs` matches joints and parts by name and
 //! maps pivots into the `[0, 2]` model frame; [`evaluate_pairs`] and [`evaluate_paths`] build
-//! the [`EvalReport`] (`eval_report.rs`).
+//! the [`EvalReport`] (`eval_report.rs`), printed by [`report_tables`].
 
 mod annotated;
 mod common;
@@ -27,6 +27,7 @@ mod object;
 mod pairing;
 mod physics;
 mod report;
+mod report_tables;
 mod structure;
 
 pub use annotated::{AnnotatedAsset, AnnotatedJoint, AnnotatedPart};
@@ -48,4 +49,5 @@ pub use object::{ObjectSample, ObjectValues, evaluate_object, valid_dimensions};
 pub use pairing::{PairSamples, pair_samples};
 pub use physics::{PhysicalProperties, PhysicsSample, evaluate_physics, material_category};
 pub use report::TaskReport;
+pub use report_tables::{format_metric, report_tables};
 pub use structure::{StructureSample, evaluate_structure, set_iou};

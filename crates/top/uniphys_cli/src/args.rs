@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use uniphys_types::UpAxis;
 
 /// Turn raw 3D assets into simulation-ready assets.
 #[derive(Debug, Parser)]
@@ -28,6 +29,9 @@ pub enum Command {
     /// Write the UniPhysGen point clouds of an asset (object and parts) as npz files in the
     /// reference layout, with the coordinate frame of the model's answers.
     Points(PointsArgs),
+    /// Evaluate predictions (our record.json) against ground truth with the paper's metrics:
+    /// joint type, axis, pivot and limit; motion-coupled groups; part physics; object values.
+    Eval(EvalArgs),
     /// Write the example assets (cabinet, laptop, box with lid, mug) as GLB files.
     Examples {
         /// Output directory.
@@ -78,9 +82,53 @@ pub struct RunArgs {
     /// GPU slots this process may hold on the model server at once.
     #[arg(long, default_value_t = 1)]
     pub uniphysgen_slots: usize,
+    /// Drop the joints an articulated input (URDF) declares, keeping its parts and their names,
+    /// so that the grounder infers the articulation (noted in report.json).
+    #[arg(long)]
+    pub ignore_joints: bool,
+    /// Rotate the whole asset by a uniformly random rotation drawn from this seed, after the
+    /// unit and up-axis conversion (noted in report.json; give the same seed to `uniphys eval`).
+    #[arg(long, value_name = "SEED")]
+    pub rotate_seed: Option<u64>,
     /// Print the run summary as JSON on stdout instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Arguments of `uniphys eval`. Predictions and ground truths are paired in order.
+#[derive(Debug, clap::Args)]
+pub struct EvalArgs {
+    /// Predictions: record.json files or `uniphys run` output directories.
+    #[arg(long, required = true, num_args = 1..)]
+    pub pred: Vec<PathBuf>,
+    /// Ground truths, one per prediction: URDF files or folders (PartNet-Mobility style),
+    /// record.json files or output directories, or UniPhys-40K entity directories.
+    #[arg(long, required = true, num_args = 1..)]
+    pub gt: Vec<PathBuf>,
+    /// Up axis of URDF ground truths, as given to `uniphys run`.
+    #[arg(long, value_enum, default_value_t = UpArg::Auto)]
+    pub up: UpArg,
+    /// Unit of URDF ground truths, as given to `uniphys run`.
+    #[arg(long, default_value = "m")]
+    pub unit: String,
+    /// Rotate URDF ground truths by the rotation of this seed, as given to `uniphys run`.
+    #[arg(long, value_name = "SEED")]
+    pub rotate_seed: Option<u64>,
+    /// Print the report as JSON instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl UpArg {
+    /// The up axis, `None` for the format's convention.
+    #[must_use]
+    pub fn up_axis(self) -> Option<UpAxis> {
+        match self {
+            Self::Auto => None,
+            Self::Y => Some(UpAxis::Y),
+            Self::Z => Some(UpAxis::Z),
+        }
+    }
 }
 
 /// Arguments of `uniphys points`.

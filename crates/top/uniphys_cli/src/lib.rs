@@ -3,15 +3,18 @@
 //! - `uniphys run <asset> --out <dir>`: the whole pipeline on one asset, no servers;
 //! - `uniphys measure <mesh>`: exact and voxel mass properties per part, as JSON;
 //! - `uniphys points <asset> --out <dir>`: UniPhysGen point clouds (npz) and model frame;
+//! - `uniphys eval --pred <record>... --gt <urdf|record|entity>...`: the paper's metrics;
 //! - `uniphys examples --out <dir>`: write the example assets as GLB.
 
 mod args;
+mod eval_cmd;
 mod measure_cmd;
 mod points_cmd;
 mod progress;
+mod report_notes;
 mod run_cmd;
 
-pub use args::{Cli, Command};
+pub use args::{Cli, Command, EvalArgs};
 
 use std::process::ExitCode;
 
@@ -39,6 +42,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
             voxel_resolution,
         } => measure_cmd::measure(&mesh, voxel_resolution),
         Command::Points(args) => points_cmd::points(&args),
+        Command::Eval(args) => eval_cmd::eval(&args),
         Command::Examples { out } => {
             let written = uniphys_examples::write_catalogue(&out).map_err(|e| {
                 anyhow::anyhow!(

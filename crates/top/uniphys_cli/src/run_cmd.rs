@@ -1,25 +1,23 @@
 use std::process::ExitCode;
 
 use anyhow::Context;
-use uniphys_mesh_io::IngestOptions;
+use uniphys_mesh_io::{AssetRotation, IngestOptions};
 use uniphys_pipeline::{LearnedOptions, RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
-use uniphys_types::UpAxis;
 use uniphys_uniphysgen::ClientConfig;
 
-use crate::args::{RunArgs, UpArg, metres_per_unit};
+use crate::args::{RunArgs, metres_per_unit};
 use crate::progress::StderrProgress;
+use crate::report_notes::with_notes;
 
 pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     let mut options = RunOptions {
         ingest: IngestOptions {
-            up_axis: match args.up {
-                UpArg::Auto => None,
-                UpArg::Y => Some(UpAxis::Y),
-                UpArg::Z => Some(UpAxis::Z),
-            },
+            up_axis: args.up.up_axis(),
             metres_per_unit: metres_per_unit(&args.unit)?,
             max_triangles: args.max_triangles,
+            ignore_joints: args.ignore_joints,
+            rotation: args.rotate_seed.map(AssetRotation::from_seed),
             ..IngestOptions::default()
         },
         voxel_resolution: args.voxel_resolution,
@@ -34,7 +32,15 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         slots: args.uniphysgen_slots,
         ..LearnedOptions::default()
     });
-    let output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
+    let mut output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
+    let ingest_notes = options.ingest.transform_notes();
+    if let Some(report) = output
+        .artifacts
+        .iter_mut()
+        .find(|a| a.path == "report.json")
+    {
+        report.bytes = with_notes(&report.bytes, &ingest_notes)?;
+    }
 
     let store = ArtifactStore::local(&args.out)?;
     let runtime = tokio::runtime::Builder::new_current_thread()

@@ -1,0 +1,116 @@
+//! `uniphys eval` and the ingest flags of `uniphys run`, through the binary.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const CABINET_URDF: &str = r#"<?xml version="1.0"?>
+<robot name="cabinet">
+  <link name="body"><visual><origin xyz="0 0 0.5"/><geometry><box size="1 1 1"/></geometry></visual></link>
+  <link name="door"><visual><origin xyz="0.01 0.5 0.5"/><geometry><box size="0.02 1 1"/></geometry></visual></link>
+  <joint name="door_hinge" type="revolute">
+    <origin xyz="0.5 -0.5 0"/><parent link="body"/><child link="door"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="1.57" effort="10" velocity="1"/>
+  </joint>
+</robot>
+"#;
+
+fn uniphys(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_uniphys"))
+        .args(args)
+        .output()
+        .expect("run uniphys")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn cabinet(dir: &Path) -> String {
+    let folder = dir.join("cabinet");
+    std::fs::create_dir_all(&folder).expect("mkdir");
+    std::fs::write(folder.join("cabinet.urdf"), CABINET_URDF).expect("write");
+    folder.display().to_string()
+}
+
+#[test]
+fn eval_refuses_unpaired_missing_or_unrecognised_inputs_with_clear_messages() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let gt = cabinet(dir.path());
+    let o = uniphys(&["eval", "--pred", "a", "b", "--gt", &gt]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("2 predictions but 1 ground truths"),
+        "{}",
+        stderr(&o)
+    );
+    let missing = dir.path().join("no_such_run").display().to_string();
+    let o = uniphys(&["eval", "--pred", &missing, "--gt", &gt]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no_such_run"), "{}", stderr(&o));
+    let o = uniphys(&["eval", "--pred", &gt]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--gt"), "{}", stderr(&o));
+    let empty = dir.path().join("empty");
+    std::fs::create_dir_all(&empty).expect("mkdir");
+    let o = uniphys(&["eval", "--pred", &gt, "--gt", &empty.display().to_string()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("record.json"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let gt = cabinet(dir.path());
+    let out = dir.path().join("out");
+    let out_s = out.display().to_string();
+    let o = uniphys(&[
+        "run",
+        &gt,
+        "--out",
+        &out_s,
+        "--ignore-joints",
+        "--rotate-seed",
+        "5",
+        "--json",
+    ]);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).expect("report"))
+            .expect("json");
+    let notes: Vec<&str> = report["notes"]
+        .as_array()
+        .expect("notes")
+        .iter()
+        .filter_map(|n| n.as_str())
+        .collect();
+    assert!(
+        notes.iter().any(|n| n.contains("ignored the joints")),
+        "{notes:?}"
+    );
+    assert!(notes.iter().any(|n| n.contains("seed 5")), "{notes:?}");
+
+    let o = uniphys(&[
+        "eval",
+        "--pred",
+        &out_s,
+        "--gt",
+        &gt,
+        "--rotate-seed",
+        "5",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let eval: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json report");
+    assert_eq!(eval["schema_version"], "uniphys.eval.v1");
+    assert_eq!(eval["input_summary"]["gt_movable_joints"], 1);
+    let k = &eval["tasks"]["kinematic_parameters"];
+    assert!(k["paper_metrics"]["joint_type_accuracy"].is_number(), "{k}");
+    assert_eq!(k["counts"]["joint_type"], 1);
+
+    let o = uniphys(&["eval", "--pred", &out_s, "--gt", &gt, "--rotate-seed", "5"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("### kinematic_parameters") && text.contains("| joint_type_accuracy |"),
+        "{text}"
+    );
+}
