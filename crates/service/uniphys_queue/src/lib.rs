@@ -33,6 +33,7 @@ pub use spec::{DEFAULT_MAX_ATTEMPTS, JobSpec, StageSpec};
 pub use state::{JobState, StageState};
 pub use store::{
     Backend, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome, FailureKind, JobDetail,
-    JobEvent, Lease, NewAsset, PurgeReport, QueueStore, RecoveryReport, RetentionPolicy, RunRef,
-    StageCost, StageFailure, StageRunInfo, StageStats, Submission,
+    JobEvent, JobFilter, JobSummary, Lease, NewAsset, PurgeReport, QueueStore, RecoveryReport,
+    RetentionPolicy, RunRef, StageCost, StageFailure, StageRunInfo, StageStats, Submission,
+    TableHealth,
 };

@@ -5,8 +5,9 @@ use crate::db::{Session, Sql, args};
 use crate::{JobId, JobState, Lease, QueueError, QueueResult, StageRunId, StageState, TenantId};
 
 static RUN_STATE: Sql = Sql::new("SELECT state, attempt FROM stage_runs WHERE id = $1");
-static JOB_OF_RUN: Sql = Sql::new("SELECT job_id FROM stage_runs WHERE id = $1");
-static LOCK_JOB: Sql = Sql::new("SELECT state FROM jobs WHERE id = $1 {for_update}");
+static LOCK_JOB_OF_RUN: Sql = Sql::new(
+    "SELECT id, state FROM jobs WHERE id = (SELECT job_id FROM stage_runs WHERE id = $1) {for_update}",
+);
 static LOCK_TENANT_JOB: Sql =
     Sql::new("SELECT state FROM jobs WHERE id = $1 AND tenant_id = $2 {for_update}");
 
@@ -46,15 +47,10 @@ pub(super) async fn lock_job_of_run(
     run: StageRunId,
 ) -> QueueResult<(JobId, JobState)> {
     let row = session
-        .fetch_optional(&JOB_OF_RUN, args![run.0])
+        .fetch_optional(&LOCK_JOB_OF_RUN, args![run.0])
         .await?
         .ok_or_else(|| QueueError::not_found("stage run", run))?;
-    let job = JobId(row.i64("job_id")?);
-    let row = session
-        .fetch_optional(&LOCK_JOB, args![job.0])
-        .await?
-        .ok_or_else(|| QueueError::not_found("job", job))?;
-    Ok((job, JobState::parse(&row.text("state")?)?))
+    Ok((JobId(row.i64("id")?), JobState::parse(&row.text("state")?)?))
 }
 
 /// Locks `job` if it belongs to `tenant` and returns its state.

@@ -9,6 +9,7 @@ mod claim;
 mod control;
 mod dag;
 mod fencing;
+mod listing;
 mod retention;
 mod retry;
 mod schema;
@@ -61,6 +62,8 @@ conformance!(
     control::cancel_stops_unfinished_runs_and_fences_the_worker,
     control::pause_holds_claims_until_resume,
     stats::stats_count_each_state_and_the_throughput,
+    listing::listing_filters_and_pages_a_tenants_jobs,
+    listing::table_health_reports_the_hot_table,
     retention::purge_removes_only_jobs_finished_before_the_retention,
     schema::migrations_revert_and_reapply,
 );
