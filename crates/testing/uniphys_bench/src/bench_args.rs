@@ -1,0 +1,26 @@
+//! Command-line options of `articulation-bench`.
+
+use std::path::PathBuf;
+
+/// Strip the joints of the project's articulated assets, run the pipeline, and score the
+/// recovered joints (joint type, axis, pivot, limit) upright and randomly rotated.
+#[derive(Debug, clap::Parser)]
+#[command(name = "articulation-bench", about)]
+pub(crate) struct BenchArgs {
+    /// PyBullet's data folder (`python -c "import pybullet_data; print(pybullet_data.getDataPath())"`);
+    /// its URDFs with revolute, prismatic or continuous joints join the example assets.
+    #[arg(long)]
+    pub pybullet_data: Option<PathBuf>,
+    /// Skip assets with more triangles than this (keeps the run to a few minutes).
+    #[arg(long, default_value_t = 60_000)]
+    pub max_triangles: usize,
+    /// Skip assets with more parts than this.
+    #[arg(long, default_value_t = 40)]
+    pub max_parts: usize,
+    /// Seed of the random rotations; asset `i` is rotated by the rotation of seed `seed + i`.
+    #[arg(long, default_value_t = 2026)]
+    pub seed: u64,
+    /// Only assets whose name contains this text.
+    #[arg(long)]
+    pub only: Option<String>,
+}

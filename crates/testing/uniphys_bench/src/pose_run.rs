@@ -1,0 +1,134 @@
+//! One pass over the assets in one pose: strip joints, run the pipeline, evaluate.
+
+use std::time::{Duration, Instant};
+
+use uniphys_eval::{
+    AnnotatedAsset, EvalReport, annotated_from_mesh_asset, annotated_from_record, evaluate_pairs,
+    load_urdf_ground_truth,
+};
+use uniphys_geometry::DMat4;
+use uniphys_mesh_io::{AssetRotation, IngestOptions};
+use uniphys_pipeline::{NoProgress, RunOptions, run};
+
+use crate::assets::{BenchAsset, GroundTruth, Skipped};
+use crate::bench_args::BenchArgs;
+
+/// The pose the assets are given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Pose {
+    /// As authored (Z up after ingest).
+    Upright,
+    /// Asset `i` rotated by the uniform random rotation of seed `seed + i`.
+    Rotated {
+        /// Base seed.
+        seed: u64,
+    },
+}
+
+impl Pose {
+    fn rotation(self, index: usize) -> Option<AssetRotation> {
+        match self {
+            Self::Upright => None,
+            Self::Rotated { seed } => {
+                Some(AssetRotation::from_seed(seed.wrapping_add(index as u64)))
+            }
+        }
+    }
+}
+
+/// The outcome of one asset.
+pub(crate) struct AssetRow {
+    /// Asset name.
+    pub name: String,
+    /// The asset's own evaluation.
+    pub report: EvalReport,
+    /// Wall time of the pipeline run.
+    pub run_time: Duration,
+}
+
+/// The outcome of one pose.
+pub(crate) struct PoseResult {
+    /// One row per evaluated asset.
+    pub rows: Vec<AssetRow>,
+    /// All evaluated assets together.
+    pub overall: EvalReport,
+    /// Assets whose run or ground truth failed.
+    pub skipped: Vec<Skipped>,
+    /// Wall time of the whole pose.
+    pub wall_time: Duration,
+}
+
+/// Runs every asset in `pose` and evaluates it against its ground truth in the same frame.
+pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> PoseResult {
+    let start = Instant::now();
+    let mut rows = Vec::new();
+    let mut pairs = Vec::new();
+    let mut skipped = Vec::new();
+    for (index, asset) in assets.iter().enumerate() {
+        let ingest = IngestOptions {
+            max_triangles: args.max_triangles,
+            ignore_joints: true,
+            rotation: pose.rotation(index),
+            ..IngestOptions::default()
+        };
+        eprintln!("{pose:?}: {}", asset.name);
+        let run_start = Instant::now();
+        let result = run_one(asset, &ingest);
+        let run_time = run_start.elapsed();
+        match result {
+            Ok((pred, gt)) => {
+                let report = evaluate_pairs(&[(pred.clone(), gt.clone())]);
+                rows.push(AssetRow {
+                    name: asset.name.clone(),
+                    report,
+                    run_time,
+                });
+                pairs.push((pred, gt));
+            }
+            Err(reason) => skipped.push(Skipped {
+                name: format!("{} ({})", asset.name, pose_label(pose)),
+                reason,
+            }),
+        }
+    }
+    PoseResult {
+        rows,
+        overall: evaluate_pairs(&pairs),
+        skipped,
+        wall_time: start.elapsed(),
+    }
+}
+
+/// Short name of a pose for tables.
+pub(crate) fn pose_label(pose: Pose) -> String {
+    match pose {
+        Pose::Upright => "upright".to_owned(),
+        Pose::Rotated { seed } => format!("random SO(3) rotation, seeds {seed} + asset index"),
+    }
+}
+
+fn run_one(
+    asset: &BenchAsset,
+    ingest: &IngestOptions,
+) -> Result<(AnnotatedAsset, AnnotatedAsset), String> {
+    let options = RunOptions {
+        ingest: ingest.clone(),
+        ..RunOptions::default()
+    };
+    let output = run(&asset.input, &options, &NoProgress).map_err(|e| e.to_string())?;
+    let pred = annotated_from_record(&output.record, &asset.name);
+    let gt = match &asset.ground_truth {
+        GroundTruth::Example(mesh) => {
+            let mut mesh = (**mesh).clone();
+            if let Some(r) = &ingest.rotation {
+                mesh.transform(&DMat4::from_quat(r.rotated_from_input));
+            }
+            mesh.rest_on_ground();
+            annotated_from_mesh_asset(&mesh, &asset.name)
+        }
+        GroundTruth::Urdf(path) => {
+            load_urdf_ground_truth(path, ingest).map_err(|e| e.to_string())?
+        }
+    };
+    Ok((pred, gt))
+}
