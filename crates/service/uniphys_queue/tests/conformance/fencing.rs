@@ -156,14 +156,17 @@ pub async fn expired_leases_are_recovered_with_an_error_record(backend: Backend)
     let acme = t.tenant("acme").await;
     let sub = t.submit(acme, "a", &JobSpec::chain(&["ingest"])).await;
     t.submit(acme, "b", &JobSpec::chain(&["ingest"])).await;
-    let dying = t.claim_one(&worker("dies"), "ingest", SHORT_LEASE).await;
+    // Long enough that "not expired yet" holds on a loaded machine.
+    let dying = t
+        .claim_one(&worker("dies"), "ingest", Duration::from_millis(1500))
+        .await;
     let healthy = t.claim_one(&worker("lives"), "ingest", LONG_LEASE).await;
     assert_eq!(
         t.store.recover_expired_leases(100).await.expect("recover"),
         RecoveryReport::default(),
         "nothing expired yet"
     );
-    tokio::time::sleep(EXPIRE).await;
+    tokio::time::sleep(Duration::from_millis(1700)).await;
     let report = t.store.recover_expired_leases(100).await.expect("recover");
     assert_eq!(report.requeued, 1, "only the expired lease is recovered");
 

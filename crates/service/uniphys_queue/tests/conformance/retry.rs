@@ -12,7 +12,7 @@ use crate::harness::{self, LONG_LEASE, NO_BACKOFF, worker};
 
 pub async fn transient_failures_wait_for_their_backoff(backend: Backend) {
     let policy = RetryPolicy {
-        base_delay: Duration::from_millis(400),
+        base_delay: Duration::from_millis(1600),
         max_delay: Duration::from_secs(10),
     };
     let Some(t) = harness::open(backend, policy).await else {
@@ -32,8 +32,8 @@ pub async fn transient_failures_wait_for_their_backoff(backend: Backend) {
     let errors = &t.store.get_job(acme, sub.job_id).await.expect("job").stages[0].errors;
     let delay_ms = run_after_ms - errors[0].at_ms;
     assert!(
-        (200..=400).contains(&delay_ms),
-        "first backoff is 200..400 ms with jitter, got {delay_ms}"
+        (800..=1600).contains(&delay_ms),
+        "first backoff is 800..1600 ms with jitter, got {delay_ms}"
     );
 
     assert!(
@@ -53,7 +53,7 @@ pub async fn transient_failures_wait_for_their_backoff(backend: Backend) {
         ),
         (0, 1, 1)
     );
-    tokio::time::sleep(Duration::from_millis(500)).await;
+    tokio::time::sleep(Duration::from_millis(1700)).await;
     let again = t.claim_one(&worker("b"), "ground", LONG_LEASE).await;
     assert_eq!(again.lease.attempt, 2);
     t.finish().await;
