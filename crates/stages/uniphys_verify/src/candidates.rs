@@ -42,15 +42,12 @@ pub fn articulation_candidates(
     let tree = KdTree::new(moving_points.to_vec());
     let start = params.start_fraction * diagonal_m;
     let step = params.step_fraction * diagonal_m;
-    let increments = ((params.max_initial_fraction - params.start_fraction) / params.step_fraction)
-        .ceil()
-        .max(0.0) as usize;
     let (patch, _) = grow_patch(
         parent_points,
         &tree,
         start,
         step,
-        increments,
+        params.initial_increments(),
         params.min_points.max(3),
     )
     .ok_or_else(|| {

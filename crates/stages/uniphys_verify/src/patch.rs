@@ -33,9 +33,24 @@ impl Default for PatchParams {
     }
 }
 
+impl PatchParams {
+    /// Increments the initial patch search may take: from `start_fraction` up to
+    /// `max_initial_fraction` in steps of `step_fraction` (rounded up).
+    #[must_use]
+    pub fn initial_increments(&self) -> usize {
+        ((self.max_initial_fraction - self.start_fraction) / self.step_fraction)
+            .ceil()
+            .max(0.0) as usize
+    }
+}
+
 /// Grows the threshold from `start_m` by `step_m` until the patch has `min_points` points or
 /// `max_increments` increments were made. Returns the patch and the threshold, or `None`.
-pub(crate) fn grow_patch(
+///
+/// `moving` is a kd-tree over the moving group's points; a point of `static_points` belongs to
+/// the patch when its nearest moving point is within the threshold (`<=`). Public so that the
+/// verification benchmark can time exactly the contact search the sweep runs.
+pub fn grow_patch(
     static_points: &[DVec3],
     moving: &KdTree,
     start_m: f64,

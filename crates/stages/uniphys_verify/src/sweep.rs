@@ -152,16 +152,12 @@ pub fn sweep(
     let patch = &params.patch;
     let start = patch.start_fraction * diag;
     let step = patch.step_fraction * diag;
-    let initial_increments = ((patch.max_initial_fraction - patch.start_fraction)
-        / patch.step_fraction)
-        .ceil()
-        .max(0.0) as usize;
     let initial = grow_patch(
         parent_points,
         &KdTree::new(moving_points.clone()),
         start,
         step,
-        initial_increments,
+        patch.initial_increments(),
         patch.min_points,
     );
     let reference = match &initial {
