@@ -16,17 +16,25 @@ pub(crate) enum Dialect {
     Sqlite,
 }
 
-/// One statement template and its two rendered forms.
+/// One statement template (or one per dialect, where the best plan needs different SQL) and its
+/// two rendered forms.
 pub(crate) struct Sql {
-    template: &'static str,
+    postgres_template: &'static str,
+    sqlite_template: &'static str,
     postgres: OnceLock<String>,
     sqlite: OnceLock<String>,
 }
 
 impl Sql {
     pub(crate) const fn new(template: &'static str) -> Self {
+        Self::per_dialect(template, template)
+    }
+
+    /// A statement written separately for each dialect (still rendered for tokens).
+    pub(crate) const fn per_dialect(postgres: &'static str, sqlite: &'static str) -> Self {
         Self {
-            template,
+            postgres_template: postgres,
+            sqlite_template: sqlite,
             postgres: OnceLock::new(),
             sqlite: OnceLock::new(),
         }
@@ -34,11 +42,11 @@ impl Sql {
 
     /// Returns the statement for `dialect`, rendering it on first use.
     pub(crate) fn get(&'static self, dialect: Dialect) -> &'static str {
-        let cell = match dialect {
-            Dialect::Postgres => &self.postgres,
-            Dialect::Sqlite => &self.sqlite,
+        let (cell, template) = match dialect {
+            Dialect::Postgres => (&self.postgres, self.postgres_template),
+            Dialect::Sqlite => (&self.sqlite, self.sqlite_template),
         };
-        cell.get_or_init(|| render(self.template, dialect))
+        cell.get_or_init(|| render(template, dialect))
     }
 }
 

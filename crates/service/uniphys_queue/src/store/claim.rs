@@ -37,16 +37,38 @@ pub struct ClaimedRun {
 
 // Ready, due and not paused; highest priority first, then oldest `run_after_ms` (when it became
 // runnable), then id. The attempt is counted here, so a run that kills its worker still uses up
-// attempts. Postgres skips rows other claimers hold; SQLite has a single writer. The pick is a
-// materialized CTE: as an `IN (subquery)` Postgres may re-run it per row and claim past the limit.
-static CLAIM: Sql = Sql::new(
+// attempts. The pick is a materialized CTE: as an `IN (subquery)` Postgres may re-run it per row
+// and claim past the limit.
+//
+// Postgres: one ordered scan of the claim index per requested stage (LATERAL, LIMIT), skipping rows
+// other claimers hold, then the best of those; cost does not grow with the backlog (a plain
+// `stage_name = ANY(..) ORDER BY ..` sorts every ready row of those stages). The few extra rows a
+// per-stage scan locks are released when the statement commits.
+// SQLite: the same order with `IN`; it has a single writer, so nothing to skip.
+static CLAIM: Sql = Sql::per_dialect(
+    "WITH picked AS MATERIALIZED (
+         SELECT c.id FROM unnest(CAST($1 AS TEXT[])) AS s(name)
+         CROSS JOIN LATERAL (
+             SELECT id, priority, run_after_ms FROM stage_runs
+             WHERE state = 'ready' AND stage_name = s.name AND run_after_ms <= {now}
+             ORDER BY priority DESC, run_after_ms, id
+             LIMIT $2
+             FOR UPDATE SKIP LOCKED) AS c
+         WHERE s.name NOT IN (SELECT stage_name FROM paused_stages)
+         ORDER BY c.priority DESC, c.run_after_ms, c.id
+         LIMIT $2)
+     UPDATE stage_runs
+     SET state = 'running', attempt = attempt + 1, worker_id = $3,
+         lease_expires_at_ms = {now} + $4, started_at_ms = {now}
+     WHERE state = 'ready' AND id IN (SELECT id FROM picked)
+     RETURNING id, job_id, tenant_id, asset_id, stage_name, attempt, max_attempts,
+               lease_expires_at_ms, priority, run_after_ms",
     "WITH picked AS MATERIALIZED (
          SELECT id FROM stage_runs
          WHERE state = 'ready' AND stage_name {in_list_1} AND run_after_ms <= {now}
            AND stage_name NOT IN (SELECT stage_name FROM paused_stages)
          ORDER BY priority DESC, run_after_ms, id
-         LIMIT $2
-         {skip_locked})
+         LIMIT $2)
      UPDATE stage_runs
      SET state = 'running', attempt = attempt + 1, worker_id = $3,
          lease_expires_at_ms = {now} + $4, started_at_ms = {now}
