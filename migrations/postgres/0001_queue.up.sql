@@ -83,6 +83,8 @@ CREATE TABLE stage_deps (
     stage_run_id  BIGINT NOT NULL REFERENCES stage_runs (id) ON DELETE CASCADE,
     PRIMARY KEY (depends_on_id, stage_run_id)
 );
+-- Deleting a run (retention) finds the edges that point at it through this index.
+CREATE INDEX stage_deps_run_idx ON stage_deps (stage_run_id);
 
 -- Stage names whose runs are not claimed while listed here.
 CREATE TABLE paused_stages (

@@ -44,7 +44,10 @@ impl Db {
     pub(crate) fn open(config: &StoreConfig) -> QueueResult<Self> {
         let url = config.url.as_str();
         if url.starts_with("postgres://") || url.starts_with("postgresql://") {
-            let mut options = PgConnectOptions::from_str(url)?;
+            // A session stuck inside a transaction (a frozen process) loses it after a minute,
+            // releasing its row locks; queue transactions last milliseconds.
+            let mut options = PgConnectOptions::from_str(url)?
+                .options([("idle_in_transaction_session_timeout", "60000")]);
             if let Some(schema) = &config.schema {
                 options = options.options([("search_path", schema.as_str())]);
             }
