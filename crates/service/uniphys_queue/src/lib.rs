@@ -33,7 +33,7 @@ pub use spec::{DEFAULT_MAX_ATTEMPTS, JobSpec, StageSpec};
 pub use state::{JobState, StageState};
 pub use store::{
     Backend, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome, FailureKind, JobDetail,
-    JobEvent, JobFilter, JobSummary, Lease, NewAsset, PurgeReport, QueueStore, RecoveryReport,
-    RetentionPolicy, RunRef, StageCost, StageFailure, StageRunInfo, StageStats, Submission,
-    TableHealth,
+    JobEvent, JobFilter, JobSummary, Lease, MAX_MANIFEST_BYTES, NewAsset, PurgeReport, QueueStore,
+    RecoveryReport, RetentionPolicy, RunRef, StageCost, StageFailure, StageRunInfo, StageStats,
+    Submission, TableHealth,
 };

@@ -9,6 +9,10 @@ use super::{QueueStore, RunRef, fencing};
 use crate::db::{Sql, args};
 use crate::{JobState, Lease, QueueError, QueueResult, StageRunId};
 
+/// Largest output manifest accepted, in bytes of JSON: manifests name artifacts (object keys and
+/// digests), they never carry them.
+pub const MAX_MANIFEST_BYTES: usize = 64 * 1024;
+
 /// What a stage run consumed, summed by the worker. Wall time is `finished - started`.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct StageCost {
@@ -66,6 +70,12 @@ impl QueueStore {
         output_manifest: &Value,
         cost: &StageCost,
     ) -> QueueResult<CompleteOutcome> {
+        let manifest_bytes = output_manifest.to_string().len();
+        if manifest_bytes > MAX_MANIFEST_BYTES {
+            return Err(QueueError::Invalid(format!(
+                "output manifest of {manifest_bytes} bytes exceeds {MAX_MANIFEST_BYTES}: store artifacts, not data"
+            )));
+        }
         let mut tx = self.db.write_tx().await?;
         let (job, _) = fencing::lock_job_of_run(&mut tx, lease.run_id).await?;
         let cost_json =

@@ -22,7 +22,7 @@ use crate::db::{Db, Dialect};
 use crate::{QueueResult, RetryPolicy, StoreConfig};
 
 pub use claim::{ClaimedRun, Lease};
-pub use complete::{CompleteOutcome, StageCost};
+pub use complete::{CompleteOutcome, MAX_MANIFEST_BYTES, StageCost};
 pub use control::RunRef;
 pub use events::JobEvent;
 pub use fail::{ErrorRecord, FailOutcome, FailureKind, RecoveryReport, StageFailure};

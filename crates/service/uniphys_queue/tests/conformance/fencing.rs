@@ -122,6 +122,13 @@ pub async fn completing_twice_is_refused(backend: Backend) {
     let acme = t.tenant("acme").await;
     let sub = t.submit(acme, "a", &JobSpec::chain(&["ingest"])).await;
     let run = t.claim_one(&worker("a"), "ingest", LONG_LEASE).await;
+    let huge = json!({ "data": "x".repeat(uniphys_queue::MAX_MANIFEST_BYTES) });
+    let err = t
+        .store
+        .complete(&run.lease, &huge, &StageCost::default())
+        .await
+        .expect_err("huge manifest");
+    assert_eq!(err.kind(), QueueErrorKind::InvalidInput);
     let first = t
         .store
         .complete(
