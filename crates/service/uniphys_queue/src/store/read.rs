@@ -80,7 +80,27 @@ static RUNS: Sql = Sql::new(
      FROM stage_runs WHERE job_id = $1 ORDER BY id",
 );
 
+static UPSTREAM: Sql = Sql::new(
+    "SELECT u.stage_name, u.output_manifest FROM stage_deps d
+     JOIN stage_runs u ON u.id = d.depends_on_id
+     WHERE d.stage_run_id = $1
+     ORDER BY u.stage_name",
+);
+
 impl QueueStore {
+    /// Returns the output manifests of the stages `run` depends on, by stage name (what a worker
+    /// reads before running the stage). A dependency without a manifest has `Value::Null`.
+    pub async fn upstream_outputs(&self, run: StageRunId) -> QueueResult<Vec<(String, Value)>> {
+        let mut session = self.db.read().await?;
+        let rows = session.fetch_all(&UPSTREAM, args![run.0]).await?;
+        rows.iter()
+            .map(|row| {
+                let manifest: Option<Value> = row.opt_json("output_manifest")?;
+                Ok((row.text("stage_name")?, manifest.unwrap_or(Value::Null)))
+            })
+            .collect()
+    }
+
     /// Returns `job` of `tenant` with its stage runs; `NotFound` for another tenant's job.
     pub async fn get_job(&self, tenant: TenantId, job: JobId) -> QueueResult<JobDetail> {
         let mut session = self.db.read().await?;

@@ -48,6 +48,12 @@ pub async fn completion_unblocks_dependents_in_dag_order(backend: Backend) {
     assert!(!out.job_succeeded);
 
     let ground = t.claim_one(&w, "ground", LONG_LEASE).await;
+    let inputs = t
+        .store
+        .upstream_outputs(ground.lease.run_id)
+        .await
+        .expect("inputs");
+    assert_eq!(inputs, [("ingest".to_owned(), manifest.clone())]);
     let out = t
         .store
         .complete(&ground.lease, &json!({"g": 1}), &StageCost::default())
@@ -70,6 +76,18 @@ pub async fn completion_unblocks_dependents_in_dag_order(backend: Backend) {
     assert_eq!(out.unblocked[0].stage_name, "export");
 
     let export = t.claim_one(&w, "export", LONG_LEASE).await;
+    let inputs = t
+        .store
+        .upstream_outputs(export.lease.run_id)
+        .await
+        .expect("inputs");
+    assert_eq!(
+        inputs,
+        [
+            ("colliders".to_owned(), json!({"c": 1})),
+            ("ground".to_owned(), json!({"g": 1}))
+        ]
+    );
     let out = t
         .store
         .complete(&export.lease, &json!({"urdf": "x"}), &StageCost::default())
