@@ -57,6 +57,12 @@ impl Db {
                 .connect_lazy_with(options);
             Ok(Self::Postgres(pool))
         } else if url.starts_with("sqlite:") {
+            if url.contains(":memory:") || url.contains("mode=memory") {
+                // The writer and the readers are separate connections: they must share a file.
+                return Err(QueueError::Invalid(
+                    "SQLite needs a file, not :memory:".into(),
+                ));
+            }
             if config.schema.is_some() {
                 return Err(QueueError::Invalid(
                     "a schema applies to Postgres only".into(),

@@ -4,7 +4,7 @@ use serde_json::Value;
 
 use super::QueueStore;
 use crate::db::{Session, Sql, args};
-use crate::{JobId, QueueResult, StageRunId, TenantId};
+use crate::{JobId, QueueError, QueueResult, StageRunId, TenantId};
 
 /// One recorded transition.
 #[derive(Clone, Debug, PartialEq)]
@@ -95,7 +95,11 @@ impl QueueStore {
                     kind: row.text("kind")?,
                     attempt: row
                         .opt_i64("attempt")?
-                        .map(|a| u32::try_from(a).unwrap_or(u32::MAX)),
+                        .map(|a| {
+                            u32::try_from(a)
+                                .map_err(|_| QueueError::CorruptRow(format!("event attempt {a}")))
+                        })
+                        .transpose()?,
                     detail: row.opt_json("detail")?,
                     at_ms: row.i64("at_ms")?,
                 })

@@ -103,3 +103,25 @@ impl QueueStore {
         self.db.close().await;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_refuses_unusable_urls() {
+        for url in [
+            "mysql://x",
+            "sqlite::memory:",
+            "sqlite:file?mode=memory",
+            "",
+        ] {
+            assert!(QueueStore::open(&StoreConfig::new(url)).is_err(), "{url}");
+        }
+        let with_schema = StoreConfig::new("sqlite:/tmp/x.db").with_schema("s");
+        assert!(
+            QueueStore::open(&with_schema).is_err(),
+            "a schema is Postgres only"
+        );
+    }
+}
