@@ -27,6 +27,16 @@ pub(crate) struct BenchAsset {
     pub ground_truth: GroundTruth,
 }
 
+impl BenchAsset {
+    /// The group the asset is reported in.
+    pub(crate) fn group(&self) -> &'static str {
+        match self.ground_truth {
+            GroundTruth::Example(_) => "example assets",
+            GroundTruth::Urdf(_) => "PyBullet URDFs",
+        }
+    }
+}
+
 /// An asset left out, and why.
 pub(crate) struct Skipped {
     /// Asset name.

@@ -52,6 +52,8 @@ pub(crate) struct PoseResult {
     pub rows: Vec<AssetRow>,
     /// All evaluated assets together.
     pub overall: EvalReport,
+    /// Per group of assets (examples, PyBullet URDFs): its name, asset count and evaluation.
+    pub groups: Vec<(&'static str, usize, EvalReport)>,
     /// Assets whose run or ground truth failed.
     pub skipped: Vec<Skipped>,
     /// Wall time of the whole pose.
@@ -63,6 +65,7 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
     let start = Instant::now();
     let mut rows = Vec::new();
     let mut pairs = Vec::new();
+    let mut groups: Vec<(&'static str, Vec<(AnnotatedAsset, AnnotatedAsset)>)> = Vec::new();
     let mut skipped = Vec::new();
     for (index, asset) in assets.iter().enumerate() {
         let ingest = IngestOptions {
@@ -83,6 +86,10 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
                     report,
                     run_time,
                 });
+                match groups.iter_mut().find(|(g, _)| *g == asset.group()) {
+                    Some((_, list)) => list.push((pred.clone(), gt.clone())),
+                    None => groups.push((asset.group(), vec![(pred.clone(), gt.clone())])),
+                }
                 pairs.push((pred, gt));
             }
             Err(reason) => skipped.push(Skipped {
@@ -94,6 +101,10 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
     PoseResult {
         rows,
         overall: evaluate_pairs(&pairs),
+        groups: groups
+            .iter()
+            .map(|(name, list)| (*name, list.len(), evaluate_pairs(list)))
+            .collect(),
         skipped,
         wall_time: start.elapsed(),
     }

@@ -74,9 +74,17 @@ pub(crate) fn pose_section(pose: Pose, result: &PoseResult) -> String {
             "| {name} (paper) | PartNet-Mobility | {acc:.2} | {axis:.2} | {pivot:.3} | {limit:.2} |"
         );
     }
+    for (group, count, report) in &result.groups {
+        let _ = writeln!(
+            out,
+            "| UniPhys pipeline, this build | {group}: {count}, joints stripped ({} GT joints) | {} |",
+            report.input_summary.gt_movable_joints,
+            metric_cells(kinematics(report))
+        );
+    }
     let _ = writeln!(
         out,
-        "| UniPhys pipeline, this build | {} assets here, joints stripped | {} |\n",
+        "| UniPhys pipeline, this build | all {} assets here, joints stripped | {} |\n",
         result.rows.len(),
         metric_cells(overall)
     );
