@@ -1,10 +1,10 @@
-use glam::{DVec3, Vec3};
+use glam::{DMat3, DVec3, Vec3};
 use parry3d::transformation::vhacd::{VHACD, VHACDParameters};
 use parry3d::transformation::voxelization::VoxelSet;
 
 use crate::{
-    Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, connected_components,
-    convex_hull, solid_mass_properties,
+    Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, box_axes,
+    connected_components, convex_hull, sample_points, solid_mass_properties,
 };
 
 /// Parameters of [`convex_decomposition`].
@@ -102,16 +102,23 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
     Ok(hulls.into_iter().map(|h| h.mesh).collect())
 }
 
-/// V-HACD on one component, in `f32` relative to its centroid. Each part's hull is the hull of
-/// the mesh clipped to the part's surface voxels, or of those voxels' corners if that fails.
-/// `None` if V-HACD panicked (a third-party failure must not take the service down).
+/// V-HACD on one component, in `f32` relative to its centroid and in the frame of its tight box
+/// ([`box_axes`]), so that V-HACD's axis-aligned voxels follow the part's own edges whatever
+/// its pose (a turned cabinet decomposes into the same panels as an upright one). Each part's
+/// hull is the hull of the mesh clipped to the part's surface voxels, or of those voxels'
+/// corners if that fails. `None` if V-HACD panicked (a third-party failure must not take the
+/// service down).
 fn decompose(component: &TriMesh, params: &ConvexParams) -> Option<Vec<Hull>> {
     let centroid =
         component.positions.iter().sum::<DVec3>() / component.positions.len().max(1) as f64;
+    let [a, b, c] = box_axes(&sample_points(component, 2000, 0xb0c5));
+    // Rows are the box axes: box_from_object.
+    let box_from_object = DMat3::from_cols(a, b, c).transpose();
+    let object_from_box = box_from_object.transpose();
     let points: Vec<Vec3> = component
         .positions
         .iter()
-        .map(|p| (*p - centroid).as_vec3())
+        .map(|p| (box_from_object * (*p - centroid)).as_vec3())
         .collect();
     let vhacd_params = VHACDParameters {
         resolution: params.voxel_resolution,
@@ -120,7 +127,10 @@ fn decompose(component: &TriMesh, params: &ConvexParams) -> Option<Vec<Hull>> {
         ..VHACDParameters::default()
     };
     let to_world = |vertices: &[Vec3]| -> Vec<DVec3> {
-        vertices.iter().map(|v| centroid + v.as_dvec3()).collect()
+        vertices
+            .iter()
+            .map(|v| centroid + object_from_box * v.as_dvec3())
+            .collect()
     };
     let run = || {
         let decomposition = VHACD::decompose(&vhacd_params, &points, &component.triangles, true);

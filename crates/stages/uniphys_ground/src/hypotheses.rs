@@ -2,11 +2,11 @@
 //! (candidate axes x candidate pivots x direction), sweep each one, keep the best by the
 //! sweep's penalties plus simple priors.
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, box_axes};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 use uniphys_verify::{
     ArticulationCandidates, PatchParams, Scene, SweepMetrics, SweepParams, articulation_candidates,
-    box_axes, sweep,
+    sweep,
 };
 
 use crate::BUILTIN_PROVIDER;
@@ -147,6 +147,17 @@ fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Ve
     results.into_iter().map(|(_, r)| r).collect()
 }
 
+/// Length of the points' projection on a unit direction.
+fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let x = p.dot(d);
+            (lo.min(x), hi.max(x))
+        });
+    (hi - lo).max(0.0)
+}
+
 fn mean(points: &[DVec3]) -> DVec3 {
     points.iter().sum::<DVec3>() / points.len().max(1) as f64
 }
@@ -216,7 +227,8 @@ fn edge_pivot(
 /// - axes far from the part's principal axes (its edges) cost up to 0.5 (at 45 degrees);
 /// - motion that brings the part's centre toward its parent's centre costs 0.3;
 /// - hinges: an axis out of the contact plane costs up to 1, a hinge line through the middle of
-///   the part up to 1.5, a hinge line near a handle (a part carried by this one) up to 0.5.
+///   the part up to 1.5, a hinge along a short edge of the part up to 0.2 (hinges run along the
+///   long edge of lids and doors), a hinge line near a handle (a part carried by this one) up to 0.5.
 fn hypotheses(
     subject: &Subject<'_>,
     candidates: &ArticulationCandidates,
@@ -226,6 +238,11 @@ fn hypotheses(
     outward: DVec3,
 ) -> Vec<(Joint, f64)> {
     let centre = mean(child_points);
+    let longest = part_axes
+        .iter()
+        .map(|e| extent_along(child_points, *e))
+        .fold(0.0, f64::max)
+        .max(1e-12);
     let mut out = Vec::new();
     for (k, &axis) in candidates.axes.iter().enumerate() {
         for sign in [1.0, -1.0] {
@@ -250,6 +267,7 @@ fn hypotheses(
                 continue;
             }
             let off_plane = a.dot(candidates.contact_normal).abs();
+            let short_edge = 0.2 * (1.0 - extent_along(child_points, a) / longest).max(0.0);
             for (l, &candidate) in candidates.pivots.iter().enumerate() {
                 let snapped = edge_pivot(
                     candidate,
@@ -288,7 +306,7 @@ fn hypotheses(
                     );
                     out.push((
                         joint(subject, JointKind::Revolute, a, pivot, HINGE_RANGE_RAD, why),
-                        misaligned + off_plane + through_middle + near_handle + inward,
+                        misaligned + off_plane + short_edge + through_middle + near_handle + inward,
                     ));
                 }
             }

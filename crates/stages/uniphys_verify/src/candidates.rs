@@ -1,9 +1,9 @@
 //! Articulation candidates of a moving part from its contact with its parent (reference 7.2 and
 //! 17 item 13): 10 unit axes and 6 pivots.
 
-use uniphys_geometry::{DQuat, DVec3, KdTree, fit_plane_ransac, kmeans};
+use uniphys_geometry::{DQuat, DVec3, KdTree, fit_plane_ransac, kmeans, principal_axes};
 
-use crate::patch::{PatchParams, grow_patch, principal_axes};
+use crate::patch::{PatchParams, grow_patch};
 use crate::{VerifyError, VerifyResult};
 
 /// Number of candidate axes.

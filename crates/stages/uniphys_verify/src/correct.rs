@@ -1,12 +1,12 @@
 //! Feedback correction of a joint that failed its sweep: reversed range, then the other candidate
 //! axes and pivots, then a smaller range; the first variant that passes is kept.
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, box_axes};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
 use crate::candidates::articulation_candidates;
-use crate::patch::box_axes;
+
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
 

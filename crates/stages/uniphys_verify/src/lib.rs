@@ -30,6 +30,6 @@ pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
-pub use patch::{PatchParams, box_axes, grow_patch, principal_axes};
+pub use patch::{PatchParams, grow_patch};
 pub use scene::{Scene, moving_group};
 pub use sweep::{SweepMetrics, SweepParams, sweep};

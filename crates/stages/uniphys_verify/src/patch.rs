@@ -1,7 +1,7 @@
 //! Contact patches: the points of a static part that lie near a moving group, and the threshold
 //! search that finds them (reference 12, steps 2 and 4, with thresholds relative to the object).
 
-use uniphys_geometry::{DMat3, DQuat, DVec3, KdTree, symmetric_eigen};
+use uniphys_geometry::{DVec3, KdTree};
 
 /// How contact thresholds are searched, as fractions of the object diagonal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,64 +100,6 @@ pub(crate) fn mean_spacing_m(points: &[DVec3]) -> f64 {
     total / points.len() as f64
 }
 
-/// Principal directions of a point set: unit eigenvectors of the covariance, largest spread
-/// first. Falls back to the coordinate axes for fewer than two points.
-#[must_use]
-pub fn principal_axes(points: &[DVec3]) -> [DVec3; 3] {
-    if points.len() < 2 {
-        return [DVec3::X, DVec3::Y, DVec3::Z];
-    }
-    let mean = points.iter().sum::<DVec3>() / points.len() as f64;
-    let mut cov = DMat3::ZERO;
-    for p in points {
-        let d = *p - mean;
-        cov += DMat3::from_cols(d * d.x, d * d.y, d * d.z);
-    }
-    let (_, vectors) = symmetric_eigen(cov / points.len() as f64);
-    [vectors.z_axis, vectors.y_axis, vectors.x_axis]
-}
-
-/// Edge directions of a tight box around the points: for each principal axis taken as the box's
-/// normal, the in-plane rotation (searched in 0.5 degree steps over a quarter turn) with the
-/// smallest bounding rectangle; the box of smallest volume wins. Unlike the principal axes this
-/// finds the edges of square slabs (a square door), whose in-plane principal axes are arbitrary.
-/// Returns `[normal, first edge, second edge]`, unit and orthogonal.
-#[must_use]
-pub fn box_axes(points: &[DVec3]) -> [DVec3; 3] {
-    let principal = principal_axes(points);
-    if points.len() < 3 {
-        return principal;
-    }
-    let extent = |d: DVec3| {
-        let (lo, hi) = points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let x = p.dot(d);
-                (lo.min(x), hi.max(x))
-            });
-        hi - lo
-    };
-    let mut best: Option<(f64, [DVec3; 3])> = None;
-    for normal in principal {
-        let start = normal.any_orthonormal_vector();
-        let depth = extent(normal);
-        for step in 0..180 {
-            let turn =
-                DQuat::from_axis_angle(normal, f64::from(step) * std::f64::consts::PI / 360.0);
-            let u = turn * start;
-            let v = normal.cross(u);
-            let volume = depth.max(1e-12) * extent(u) * extent(v);
-            if best
-                .as_ref()
-                .is_none_or(|(b, _)| volume < *b * (1.0 - 1e-9))
-            {
-                best = Some((volume, [normal, u, v]));
-            }
-        }
-    }
-    best.map_or(principal, |(_, axes)| axes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,32 +116,10 @@ mod tests {
     }
 
     #[test]
-    fn spacing_and_principal_axes_of_a_line_of_points() {
+    fn spacing_of_a_line_of_points() {
         let points: Vec<DVec3> = (0..5)
             .map(|i| DVec3::new(0.0, 0.5 * f64::from(i), 0.0))
             .collect();
         assert!((mean_spacing_m(&points) - 0.5).abs() < 1e-12);
-        let axes = principal_axes(&points);
-        assert!((axes[0].abs() - DVec3::Y).length() < 1e-9, "{:?}", axes[0]);
-    }
-
-    #[test]
-    fn box_axes_find_the_edges_of_a_square_slab_turned_by_20_degrees() {
-        // Corners and edge points of a 1 x 1 x 0.02 slab turned 20 degrees about z: its in-plane
-        // principal axes are arbitrary, its box edges are not.
-        let turn = DQuat::from_rotation_z(20f64.to_radians());
-        let mut points = Vec::new();
-        for i in 0..=10 {
-            for j in 0..=10 {
-                for z in [0.0, 0.02] {
-                    points.push(turn * DVec3::new(f64::from(i) * 0.1, f64::from(j) * 0.1, z));
-                }
-            }
-        }
-        let [normal, u, v] = box_axes(&points);
-        assert!((normal.abs() - DVec3::Z).length() < 1e-6, "{normal}");
-        let edge = turn * DVec3::X;
-        let best = u.dot(edge).abs().max(v.dot(edge).abs());
-        assert!(best > (0.5f64).to_radians().cos(), "{u} {v} vs {edge}");
     }
 }

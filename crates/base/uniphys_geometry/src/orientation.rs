@@ -1,0 +1,115 @@
+//! Orientation of a point set: principal axes and the edges of a tight box.
+
+use glam::{DMat3, DQuat, DVec3};
+
+use crate::symmetric_eigen;
+
+/// Principal directions of a point set: unit eigenvectors of the covariance, largest spread
+/// first. Falls back to the coordinate axes for fewer than two points.
+#[must_use]
+pub fn principal_axes(points: &[DVec3]) -> [DVec3; 3] {
+    if points.len() < 2 {
+        return [DVec3::X, DVec3::Y, DVec3::Z];
+    }
+    let mean = points.iter().sum::<DVec3>() / points.len() as f64;
+    let mut cov = DMat3::ZERO;
+    for p in points {
+        let d = *p - mean;
+        cov += DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+    }
+    let (_, vectors) = symmetric_eigen(cov / points.len() as f64);
+    [vectors.z_axis, vectors.y_axis, vectors.x_axis]
+}
+
+/// Edge directions of a tight box around the points: for each principal axis taken as the box's
+/// normal, the in-plane rotation with the smallest bounding rectangle (0.5 degree steps over a
+/// half turn from the next principal axis, then refined by ternary search); the box of smallest
+/// volume wins. Unlike the principal axes this
+/// finds the edges of square slabs (a square door), whose in-plane principal axes are arbitrary.
+/// Returns `[normal, first edge, second edge]`, unit and orthogonal.
+#[must_use]
+pub fn box_axes(points: &[DVec3]) -> [DVec3; 3] {
+    let principal = principal_axes(points);
+    if points.len() < 3 {
+        return principal;
+    }
+    let extent = |d: DVec3| {
+        let (lo, hi) = points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let x = p.dot(d);
+                (lo.min(x), hi.max(x))
+            });
+        hi - lo
+    };
+    let mut best: Option<(f64, [DVec3; 3])> = None;
+    for (k, normal) in principal.into_iter().enumerate() {
+        // Start at the next principal axis: an axis-aligned box is found at angle 0 exactly.
+        let start = principal[(k + 1) % 3];
+        let depth = extent(normal).max(1e-12);
+        let frame = |angle: f64| {
+            let u = DQuat::from_axis_angle(normal, angle) * start;
+            let v = normal.cross(u);
+            (depth * extent(u) * extent(v), [normal, u, v])
+        };
+        let step = std::f64::consts::PI / 360.0;
+        let coarse = (0..180)
+            .map(|i| f64::from(i) * step)
+            .min_by(|a, b| frame(*a).0.total_cmp(&frame(*b).0))
+            .unwrap_or(0.0);
+        // Refine within one coarse step on each side (the area is unimodal there).
+        let (mut lo, mut hi) = (coarse - step, coarse + step);
+        for _ in 0..40 {
+            let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if frame(m1).0 <= frame(m2).0 {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        for angle in [coarse, 0.5 * (lo + hi)] {
+            let (volume, axes) = frame(angle);
+            if best
+                .as_ref()
+                .is_none_or(|(b, _)| volume < *b * (1.0 - 1e-12))
+            {
+                best = Some((volume, axes));
+            }
+        }
+    }
+    best.map_or(principal, |(_, axes)| axes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn principal_axes_of_a_line_of_points() {
+        let points: Vec<DVec3> = (0..5)
+            .map(|i| DVec3::new(0.0, 0.5 * f64::from(i), 0.0))
+            .collect();
+        let axes = principal_axes(&points);
+        assert!((axes[0].abs() - DVec3::Y).length() < 1e-9, "{:?}", axes[0]);
+    }
+
+    #[test]
+    fn box_axes_find_the_edges_of_a_square_slab_turned_by_20_degrees() {
+        // Corners and edge points of a 1 x 1 x 0.02 slab turned 20 degrees about z: its in-plane
+        // principal axes are arbitrary, its box edges are not.
+        let turn = DQuat::from_rotation_z(20f64.to_radians());
+        let mut points = Vec::new();
+        for i in 0..=10 {
+            for j in 0..=10 {
+                for z in [0.0, 0.02] {
+                    points.push(turn * DVec3::new(f64::from(i) * 0.1, f64::from(j) * 0.1, z));
+                }
+            }
+        }
+        let [normal, u, v] = box_axes(&points);
+        assert!((normal.abs() - DVec3::Z).length() < 1e-6, "{normal}");
+        let edge = turn * DVec3::X;
+        let best = u.dot(edge).abs().max(v.dot(edge).abs());
+        assert!(best > (0.5f64).to_radians().cos(), "{u} {v} vs {edge}");
+    }
+}
