@@ -8,7 +8,7 @@ use uniphys_types::{CheckOutcome, CheckResult, Joint, ReportSection};
 use crate::VerifyResult;
 use crate::correct::correct_joint;
 use crate::scene::{Scene, moving_group};
-use crate::sweep::{SweepParams, sweep};
+use crate::sweep::{SweepMetrics, SweepParams, sweep};
 
 /// The result of verifying the joints of an asset.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,7 +33,8 @@ impl ArticulationOutcome {
 
 /// Sweeps every movable joint; a joint that fails is corrected when `correct` is set (the first
 /// passing variant replaces it, the change is reported as a warning), otherwise or when no
-/// variant passes it fails with the sweep's reasons.
+/// variant passes it fails with the sweep's reasons. Joints declared by the input (provenance
+/// `input`) are never changed: their failures are reported as they are.
 pub fn verify_articulation(
     scene: &Scene,
     joints: &[Joint],
@@ -49,42 +50,19 @@ pub fn verify_articulation(
         metrics: BTreeMap::new(),
         corrections: Vec::new(),
     };
-    for (i, joint) in joints.iter().enumerate() {
-        if !joint.kind.is_movable() {
-            continue;
-        }
-        let subject = format!("joint {}", joint.name);
-        let moving = moving_group(joints, joint.child);
-        let metrics = sweep(scene, joint, &moving, params)?;
-        let reasons = metrics.failures(params);
-        let (outcome, message, metrics) = if reasons.is_empty() {
-            (
-                CheckOutcome::Pass,
-                format!("{} steps without failure", metrics.steps),
-                metrics,
-            )
-        } else if let Some(fix) = correct
-            .then(|| correct_joint(scene, joint, &moving, params))
-            .transpose()?
-            .flatten()
-        {
-            let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
+    let movable: Vec<usize> = (0..joints.len())
+        .filter(|&i| joints[i].kind.is_movable())
+        .collect();
+    // Joints are judged independently against the same scene, on all cores.
+    let judged = parallel_map(&movable, |&i| judge(scene, joints, i, params, correct));
+    for (&i, result) in movable.iter().zip(judged) {
+        let (fix, outcome, message, metrics) = result?;
+        let subject = format!("joint {}", joints[i].name);
+        if let Some((joint, change)) = fix {
             out.corrections
-                .push(format!("joint {:?}: {}", joint.name, fix.change));
-            out.joints[i] = fix.joint;
-            (CheckOutcome::Warn, message, fix.metrics)
-        } else {
-            let suffix = if correct {
-                "; no correction passed"
-            } else {
-                ""
-            };
-            (
-                CheckOutcome::Fail,
-                format!("{}{suffix}", reasons.join("; ")),
-                metrics,
-            )
-        };
+                .push(format!("joint {:?}: {change}", joints[i].name));
+            out.joints[i] = joint;
+        }
         out.metrics.insert(subject.clone(), metrics.as_map());
         out.section.checks.push(CheckResult {
             check: "articulation_sweep".into(),
@@ -94,4 +72,89 @@ pub fn verify_articulation(
         });
     }
     Ok(out)
+}
+
+/// Whether the joint was declared by the input file.
+fn declared(joint: &Joint) -> bool {
+    matches!(joint.provenance, uniphys_types::Provenance::Input { .. })
+}
+
+/// What happened to one joint: the correction (joint and change) if any, the outcome, the
+/// message and the metrics of the sweep that decided.
+type Judgement = (Option<(Joint, String)>, CheckOutcome, String, SweepMetrics);
+
+/// Sweeps joint `i` and, if it fails and may be corrected, tries to correct it.
+fn judge(
+    scene: &Scene,
+    joints: &[Joint],
+    i: usize,
+    params: &SweepParams,
+    correct: bool,
+) -> VerifyResult<Judgement> {
+    let joint = &joints[i];
+    let moving = moving_group(joints, joint.child);
+    let metrics = sweep(scene, joint, &moving, params)?;
+    let reasons = metrics.failures(params);
+    if reasons.is_empty() {
+        let message = format!("{} steps without failure", metrics.steps);
+        return Ok((None, CheckOutcome::Pass, message, metrics));
+    }
+    if declared(joint) {
+        let message = format!(
+            "{}; declared by the input: reported, kept as given",
+            reasons.join("; ")
+        );
+        return Ok((None, CheckOutcome::Fail, message, metrics));
+    }
+    if correct {
+        if let Some(fix) = correct_joint(scene, joint, &moving, params)? {
+            let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
+            return Ok((
+                Some((fix.joint, fix.change)),
+                CheckOutcome::Warn,
+                message,
+                fix.metrics,
+            ));
+        }
+    }
+    let suffix = if correct {
+        "; no correction passed"
+    } else {
+        ""
+    };
+    let message = format!("{}{suffix}", reasons.join("; "));
+    Ok((None, CheckOutcome::Fail, message, metrics))
+}
+
+/// `f` over `items` on all cores; results in input order.
+#[must_use]
+pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(items.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut out = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        out.push((i, f(item)));
+                    }
+                    out
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| {
+                w.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, r)| r).collect()
 }

@@ -23,6 +23,9 @@ pub struct Correction {
 
 /// Steps of the quick pre-screen sweep run before a full one.
 const SCREEN_STEPS: usize = 24;
+/// Most variants screened per joint, in the order of [`variants`] (bounds the time spent on
+/// one joint: every range reversal and the nearest axes and pivots come first).
+const MAX_VARIANTS: usize = 24;
 
 /// Variants of `joint` in the order they are tried.
 fn variants(
@@ -110,7 +113,7 @@ fn angle(a: DVec3, b: DVec3) -> f64 {
 
 /// Tries the variants of a failed `joint` (moving the parts in `moving`) and returns the first
 /// whose sweep passes, or `None` if none does. Each variant is screened with a short sweep
-/// before the full one.
+/// before the full one; at most 24 variants are tried.
 pub fn correct_joint(
     scene: &Scene,
     joint: &Joint,
@@ -121,7 +124,10 @@ pub fn correct_joint(
         steps: SCREEN_STEPS,
         ..*params
     };
-    for (candidate, change) in variants(scene, joint, moving, params) {
+    for (candidate, change) in variants(scene, joint, moving, params)
+        .into_iter()
+        .take(MAX_VARIANTS)
+    {
         if !sweep(scene, &candidate, moving, &screen)?
             .failures(&screen)
             .is_empty()

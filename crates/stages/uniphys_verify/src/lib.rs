@@ -22,7 +22,7 @@ mod penetration;
 mod scene;
 mod sweep;
 
-pub use articulation::{ArticulationOutcome, verify_articulation};
+pub use articulation::{ArticulationOutcome, parallel_map, verify_articulation};
 pub use candidates::{
     AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates,
 };

@@ -12,6 +12,9 @@ use crate::motion::JointMotion;
 pub(crate) struct Hull {
     pub(crate) part: usize,
     pub(crate) shape: ConvexPolyhedron,
+    /// Bounding sphere in the object frame: centre and radius, metres.
+    centre_m: DVec3,
+    radius_m: f64,
 }
 
 /// Convex colliders of all parts, shifted by a common origin.
@@ -30,7 +33,19 @@ impl Colliders {
                 let points: Vec<Vector> =
                     mesh.positions.iter().map(|p| to_f32(*p - origin)).collect();
                 if let Some(shape) = ConvexPolyhedron::from_convex_hull(&points) {
-                    hulls.push(Hull { part, shape });
+                    let centre_m =
+                        mesh.positions.iter().sum::<DVec3>() / mesh.positions.len().max(1) as f64;
+                    let radius_m = mesh
+                        .positions
+                        .iter()
+                        .map(|p| p.distance(centre_m))
+                        .fold(0.0, f64::max);
+                    hulls.push(Hull {
+                        part,
+                        shape,
+                        centre_m,
+                        radius_m,
+                    });
                 }
             }
         }
@@ -42,6 +57,43 @@ impl Colliders {
         (0..self.hulls.len())
             .filter(|&h| parts.contains(&self.hulls[h].part))
             .collect()
+    }
+
+    /// Whether moving hull `a` can come near still hull `b` while the joint moves from `lower`
+    /// to `upper` (a broad phase: pairs that cannot meet are never queried). A turning hull
+    /// stays inside the sphere about the foot of its centre on the axis that contains it; a
+    /// sliding one inside the capsule its sphere sweeps.
+    pub(crate) fn may_meet(
+        &self,
+        a: usize,
+        b: usize,
+        motion: &JointMotion,
+        lower: f64,
+        upper: f64,
+    ) -> bool {
+        let (ha, hb) = (&self.hulls[a], &self.hulls[b]);
+        let reach = ha.radius_m + hb.radius_m;
+        let axis = motion.axis_in_object;
+        match motion.kind {
+            uniphys_types::JointKind::Prismatic => {
+                let start = ha.centre_m + axis * lower;
+                let end = ha.centre_m + axis * upper;
+                let d = end - start;
+                let t = if d.length_squared() > 0.0 {
+                    ((hb.centre_m - start).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (start + d * t).distance(hb.centre_m) <= reach
+            }
+            uniphys_types::JointKind::Fixed => ha.centre_m.distance(hb.centre_m) <= reach,
+            _ => {
+                let pivot = motion.pivot_in_object_m;
+                let foot = pivot + axis * (ha.centre_m - pivot).dot(axis);
+                let radius = ha.centre_m.distance(foot) + ha.radius_m;
+                foot.distance(hb.centre_m) <= radius + hb.radius_m
+            }
+        }
     }
 
     /// The pose of the moving hulls at coordinate `q` in the shifted frame.

@@ -139,16 +139,16 @@ pub fn sweep(
     let moving_hulls = colliders.of_parts(moving);
     let still_hulls = colliders.of_parts(&still);
     let rest_pose = colliders.pose(&motion, 0.0);
-    let baseline: Vec<Vec<f64>> = moving_hulls
+    // Only pairs that can meet anywhere in the range (and at rest) are queried.
+    let pairs: Vec<(usize, usize)> = moving_hulls
         .iter()
-        .map(|&a| {
-            still_hulls
-                .iter()
-                .map(|&b| colliders.depth_m(a, &rest_pose, b))
-                .collect()
-        })
+        .flat_map(|&a| still_hulls.iter().map(move |&b| (a, b)))
+        .filter(|&(a, b)| colliders.may_meet(a, b, &motion, lower.min(0.0), upper.max(0.0)))
         .collect();
-
+    let baseline: Vec<f64> = pairs
+        .iter()
+        .map(|&(a, b)| colliders.depth_m(a, &rest_pose, b))
+        .collect();
     let patch = &params.patch;
     let start = patch.start_fraction * diag;
     let step = patch.step_fraction * diag;
@@ -189,12 +189,10 @@ pub fn sweep(
     for q in sweep_coordinates(lower, upper, params.steps) {
         let pose = colliders.pose(&motion, q);
         let mut deepest = (0.0f64, None);
-        for (i, &a) in moving_hulls.iter().enumerate() {
-            for (j, &b) in still_hulls.iter().enumerate() {
-                let growth = colliders.depth_m(a, &pose, b) - baseline[i][j];
-                if growth > deepest.0 {
-                    deepest = (growth, Some(colliders.hulls[b].part));
-                }
+        for (&(a, b), rest) in pairs.iter().zip(&baseline) {
+            let growth = colliders.depth_m(a, &pose, b) - rest;
+            if growth > deepest.0 {
+                deepest = (growth, Some(colliders.hulls[b].part));
             }
         }
         growth_sum += deepest.0;
