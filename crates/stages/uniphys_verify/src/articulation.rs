@@ -106,16 +106,14 @@ fn judge(
         );
         return Ok((None, CheckOutcome::Fail, message, metrics));
     }
-    if correct {
-        if let Some(fix) = correct_joint(scene, joint, &moving, params)? {
-            let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
-            return Ok((
-                Some((fix.joint, fix.change)),
-                CheckOutcome::Warn,
-                message,
-                fix.metrics,
-            ));
-        }
+    if correct && let Some(fix) = correct_joint(scene, joint, &moving, params)? {
+        let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
+        return Ok((
+            Some((fix.joint, fix.change)),
+            CheckOutcome::Warn,
+            message,
+            fix.metrics,
+        ));
     }
     let suffix = if correct {
         "; no correction passed"
