@@ -44,7 +44,7 @@ pub use kmeans::{KMeans, kmeans};
 pub use mass::MassProperties;
 pub use mesh::TriMesh;
 pub use mesh_asset::{MeshAsset, MeshPart, SurfaceMaterial, Texture};
-pub use orientation::{box_axes, principal_axes};
+pub use orientation::{box_axes, principal_axes, projection_range};
 pub use plane::{Plane, fit_plane, fit_plane_ransac};
 pub use rng::SplitMix64;
 pub use sampling::{SurfaceSamples, sample_points, sample_surface};

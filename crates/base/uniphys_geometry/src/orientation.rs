@@ -4,6 +4,17 @@ use glam::{DMat3, DQuat, DVec3};
 
 use crate::symmetric_eigen;
 
+/// Smallest and largest of `p . d` over the points (`(inf, -inf)` for none).
+#[must_use]
+pub fn projection_range(points: &[DVec3], d: DVec3) -> (f64, f64) {
+    points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            let x = p.dot(d);
+            (lo.min(x), hi.max(x))
+        })
+}
+
 /// Principal directions of a point set: unit eigenvectors of the covariance, largest spread
 /// first. Falls back to the coordinate axes for fewer than two points.
 #[must_use]
@@ -34,12 +45,7 @@ pub fn box_axes(points: &[DVec3]) -> [DVec3; 3] {
         return principal;
     }
     let extent = |d: DVec3| {
-        let (lo, hi) = points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let x = p.dot(d);
-                (lo.min(x), hi.max(x))
-            });
+        let (lo, hi) = projection_range(points, d);
         hi - lo
     };
     let mut best: Option<(f64, [DVec3; 3])> = None;

@@ -2,7 +2,7 @@
 //! (candidate axes x candidate pivots x direction), sweep each one, keep the best by the
 //! sweep's penalties plus simple priors.
 
-use uniphys_geometry::{DVec3, box_axes};
+use uniphys_geometry::{DVec3, box_axes, projection_range};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 use uniphys_verify::{
     ArticulationCandidates, PatchParams, Scene, SweepMetrics, SweepParams, articulation_candidates,
@@ -117,12 +117,7 @@ pub(crate) fn best_joint(scene: &Scene, subject: &Subject<'_>) -> Option<Scored>
 
 /// Length of the points' projection on a unit direction.
 fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
-    let (lo, hi) = points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-            let x = p.dot(d);
-            (lo.min(x), hi.max(x))
-        });
+    let (lo, hi) = projection_range(points, d);
     (hi - lo).max(0.0)
 }
 
@@ -168,14 +163,7 @@ fn edge_pivot(
         return None;
     }
     let u = u.normalize();
-    let range = |d: DVec3| {
-        child_points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                let x = p.dot(d);
-                (lo.min(x), hi.max(x))
-            })
-    };
+    let range = |d: DVec3| projection_range(child_points, d);
     let (lo, hi) = range(u);
     let at = pivot.dot(u);
     let side = if (at - lo).abs() <= (hi - at).abs() {
@@ -218,14 +206,7 @@ fn hypotheses(
             let misaligned =
                 0.5 * (misalignment_rad(a, part_axes) / std::f64::consts::FRAC_PI_4).min(1.0);
             if subject.kind == JointKind::Prismatic {
-                let (lo, hi) =
-                    child_points
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                            let d = p.dot(a);
-                            (lo.min(d), hi.max(d))
-                        });
-                let travel = SLIDE_TRAVEL_FRACTION * (hi - lo).max(0.0);
+                let travel = SLIDE_TRAVEL_FRACTION * extent_along(child_points, a);
                 let inward = if a.dot(outward) < 0.0 { 0.3 } else { 0.0 };
                 let why = format!("sweep-selected slide along candidate axis {k}");
                 out.push((

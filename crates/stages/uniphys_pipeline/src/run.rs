@@ -211,8 +211,10 @@ pub fn run(
     })?;
     notes.extend(articulation_notes);
 
-    let (record, verified) = clock.stage(Stage::Verify, || {
-        let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
+    let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
+    // Touching pairs serve verification (the dynamic check's contact filter) and export (MJCF
+    // excludes): computed once, timed with verification.
+    let (record, verified, touching) = clock.stage(Stage::Verify, || {
         let touching = touching_pairs(&asset, options.touching_fraction);
         let verified = verify(record, &meshes, &colliders, &touching, &options.verify)?;
         let summary = format!(
@@ -226,18 +228,16 @@ pub fn run(
                 "failed"
             }
         );
-        Ok(((verified.record.clone(), verified), summary))
+        Ok(((verified.record.clone(), verified, touching), summary))
     })?;
     notes.extend(verified.corrections.iter().cloned());
 
     let (artifacts, report) = clock.stage(Stage::Export, || {
-        let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
         let colors: Vec<[f32; 4]> = asset
             .parts
             .iter()
             .map(|p| part_color(&asset, &p.mesh))
             .collect();
-        let touching = touching_pairs(&asset, options.touching_fraction);
         let mut report = VerificationReport::default();
         report
             .sections
