@@ -19,6 +19,7 @@ mod config;
 mod db;
 mod error;
 mod ids;
+mod manifest;
 mod migrations;
 mod retry_policy;
 mod spec;
@@ -28,12 +29,13 @@ mod store;
 pub use config::StoreConfig;
 pub use error::{QueueError, QueueErrorKind, QueueResult};
 pub use ids::{AssetId, JobId, StageRunId, TenantId, WorkerId};
+pub use manifest::{ArtifactEntry, OutputManifest};
 pub use retry_policy::RetryPolicy;
 pub use spec::{DEFAULT_MAX_ATTEMPTS, JobSpec, StageSpec};
 pub use state::{JobState, StageState};
 pub use store::{
-    Backend, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome, FailureKind, JobDetail,
-    JobEvent, JobFilter, JobSummary, Lease, MAX_MANIFEST_BYTES, NewAsset, PurgeReport, QueueStore,
-    RecoveryReport, RetentionPolicy, RunRef, StageCost, StageFailure, StageRunInfo, StageStats,
-    Submission, TableHealth,
+    AssetInfo, Backend, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome, FailureKind,
+    JobDetail, JobEvent, JobFilter, JobSummary, Lease, MAX_MANIFEST_BYTES, NewAsset, PurgeReport,
+    QueueStore, RecoveryReport, RetentionPolicy, RunContext, RunRef, StageCost, StageFailure,
+    StageRunInfo, StageStats, Submission, TableHealth,
 };

@@ -16,6 +16,10 @@ pub struct JobSpec {
     pub priority: i32,
     /// The stages; names are unique within the job.
     pub stages: Vec<StageSpec>,
+    /// W3C `traceparent` of the request that submitted the job, so each stage's span joins
+    /// that trace.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trace_parent: Option<String>,
 }
 
 /// One stage of a job.
@@ -62,6 +66,7 @@ impl JobSpec {
         Self {
             priority: 0,
             stages,
+            trace_parent: None,
         }
     }
 
@@ -80,6 +85,13 @@ impl JobSpec {
             })
             .collect();
         Self::new(stages)
+    }
+
+    /// Sets the trace context the stages continue.
+    #[must_use]
+    pub fn with_trace_parent(mut self, trace_parent: Option<String>) -> Self {
+        self.trace_parent = trace_parent;
+        self
     }
 
     /// Sets the priority.
@@ -120,6 +132,11 @@ impl JobSpec {
                     ));
                 }
             }
+        }
+        if let Some(tp) = &self.trace_parent
+            && (tp.len() > 256 || !tp.chars().all(|c| c.is_ascii_graphic()))
+        {
+            return invalid("trace_parent must be at most 256 printable ASCII characters".into());
         }
         if self.topological_order().len() != self.stages.len() {
             return invalid("the stage graph has a cycle".into());

@@ -4,6 +4,7 @@
 //! `jobs` row first, then its stage runs, so they cannot deadlock with one another; claims lock
 //! only ready runs and skip locked ones.
 
+mod assets;
 mod claim;
 mod complete;
 mod control;
@@ -13,6 +14,7 @@ mod fencing;
 mod health;
 mod list;
 mod read;
+mod release;
 mod retention;
 mod stats;
 mod submit;
@@ -21,6 +23,7 @@ mod tenants;
 use crate::db::{Db, Dialect};
 use crate::{QueueResult, RetryPolicy, StoreConfig};
 
+pub use assets::{AssetInfo, RunContext};
 pub use claim::{ClaimedRun, Lease};
 pub use complete::{CompleteOutcome, MAX_MANIFEST_BYTES, StageCost};
 pub use control::RunRef;

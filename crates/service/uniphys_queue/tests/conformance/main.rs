@@ -15,6 +15,7 @@ mod retry;
 mod schema;
 mod stats;
 mod submit;
+mod worker_reads;
 
 /// Declares each case once per backend: `sqlite::name` and `postgres::name`.
 macro_rules! conformance {
@@ -66,4 +67,7 @@ conformance!(
     listing::table_health_reports_the_hot_table,
     retention::purge_removes_only_jobs_finished_before_the_retention,
     schema::migrations_revert_and_reapply,
+    worker_reads::assets_and_backlog_are_per_tenant,
+    worker_reads::run_context_carries_the_asset_trace_and_upstream,
+    worker_reads::a_released_run_is_claimable_at_once_without_using_an_attempt,
 );
