@@ -1,0 +1,136 @@
+//! The router: every route registered with its OpenAPI operation (so the document covers every
+//! route by construction), request tracing, request metrics through the hooks, and a JSON 404.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use axum::extract::{MatchedPath, Request, State};
+use axum::middleware::{self, Next};
+use axum::response::Response;
+use axum::{Extension, Router};
+use tower_http::trace::{DefaultMakeSpan, DefaultOnResponse, TraceLayer};
+use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
+use utoipa::{Modify, OpenApi};
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
+
+use crate::ApiState;
+use crate::error::ApiError;
+use crate::routes::ops::OpenApiJson;
+use crate::routes::{artifacts, assets, import, jobs, ops, submit};
+use crate::state::Shared;
+
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "UniPhys service API",
+        description = "Submit 3D assets to the UniPhys pipeline, follow their stages, download results. \
+                       Every /v1 route needs `Authorization: Bearer <api key>`; errors answer \
+                       `{\"error\": {\"code\", \"message\"}}`."
+    ),
+    modifiers(&BearerKey),
+    tags(
+        (name = "assets", description = "Submit and inspect assets"),
+        (name = "jobs", description = "Jobs: status, history, cancel, retry"),
+        (name = "artifacts", description = "Stage outputs"),
+        (name = "operations", description = "Statistics, health, metrics, this document"),
+    )
+)]
+struct ApiDoc;
+
+/// Declares the `api_key` bearer scheme the operations refer to.
+struct BearerKey;
+
+impl Modify for BearerKey {
+    fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
+        let components = openapi.components.get_or_insert_with(Default::default);
+        components.add_security_scheme(
+            "api_key",
+            SecurityScheme::Http(HttpBuilder::new().scheme(HttpAuthScheme::Bearer).build()),
+        );
+    }
+}
+
+fn api_routes() -> OpenApiRouter<Shared> {
+    OpenApiRouter::with_openapi(ApiDoc::openapi())
+        .routes(routes!(submit::upload, assets::list))
+        .routes(routes!(import::by_url))
+        .routes(routes!(import::batch))
+        .routes(routes!(assets::get))
+        .routes(routes!(artifacts::list))
+        .routes(routes!(artifacts::download))
+        .routes(routes!(jobs::get))
+        .routes(routes!(jobs::events))
+        .routes(routes!(jobs::cancel))
+        .routes(routes!(jobs::retry))
+        .routes(routes!(ops::stats))
+        .routes(routes!(ops::healthz))
+        .routes(routes!(ops::readyz))
+        .routes(routes!(ops::metrics))
+        .routes(routes!(ops::openapi))
+}
+
+/// The OpenAPI document of every route, generated from the handlers' annotations.
+#[must_use]
+pub fn openapi() -> utoipa::openapi::OpenApi {
+    let (_, doc) = api_routes().split_for_parts();
+    with_openapi_path_syntax(doc)
+}
+
+/// axum writes a catch-all segment `{*name}`; OpenAPI writes `{name}`.
+fn with_openapi_path_syntax(mut doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
+    let paths = std::mem::take(&mut doc.paths.paths);
+    doc.paths.paths = paths
+        .into_iter()
+        .map(|(path, item)| (path.replace("{*", "{"), item))
+        .collect();
+    doc
+}
+
+/// The API's router, ready to serve (`axum::serve(listener, router(state))`) or to call in tests.
+pub fn router(state: ApiState) -> Router {
+    let shared: Shared = Arc::new(state);
+    let (router, doc) = api_routes().split_for_parts();
+    let doc = with_openapi_path_syntax(doc);
+    let json = doc
+        .to_pretty_json()
+        .unwrap_or_else(|e| format!("{{\"error\": \"openapi document: {e}\"}}"));
+    router
+        .fallback(not_found)
+        .layer(Extension(OpenApiJson(Arc::new(json))))
+        .layer(middleware::from_fn_with_state(shared.clone(), observe))
+        .layer(
+            TraceLayer::new_for_http()
+                .make_span_with(DefaultMakeSpan::new().level(tracing::Level::INFO))
+                .on_response(DefaultOnResponse::new().level(tracing::Level::DEBUG))
+                // 5xx are logged once, where the error becomes a response.
+                .on_failure(()),
+        )
+        .with_state(shared)
+}
+
+async fn not_found(request: Request) -> ApiError {
+    ApiError::NotFound(format!(
+        "no route {} {}",
+        request.method(),
+        request.uri().path()
+    ))
+}
+
+/// Reports each request's route, status and duration to the hooks.
+async fn observe(State(state): State<Shared>, request: Request, next: Next) -> Response {
+    let started = Instant::now();
+    let method = request.method().clone();
+    let route = request
+        .extensions()
+        .get::<MatchedPath>()
+        .map_or_else(|| "unmatched".to_owned(), |p| p.as_str().to_owned());
+    let response = next.run(request).await;
+    state.hooks.observe_request(
+        method.as_str(),
+        &route,
+        response.status().as_u16(),
+        started.elapsed(),
+    );
+    response
+}

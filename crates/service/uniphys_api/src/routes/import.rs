@@ -1,0 +1,264 @@
+//! `POST /v1/assets/by-url` and `POST /v1/batches`: submit assets already in the service's object
+//! store. The object is copied (streamed, hashed) to the tenant's content-addressed source key, so
+//! the recorded digest stays true even if the original is later overwritten.
+
+use axum::Json;
+use axum::extract::State;
+use axum::response::Response;
+use futures::{StreamExt, TryStreamExt};
+use serde::{Deserialize, Serialize};
+use uniphys_queue::TenantId;
+use utoipa::ToSchema;
+
+use super::submit::{SubmitResponse, check_backlog, store_and_submit, submitted};
+use crate::ApiState;
+use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
+use crate::extract::{ApiJson, Tenant};
+use crate::state::Shared;
+use crate::upload::{sanitize_filename, spool, too_large};
+
+/// Batch items submitted at the same time.
+const BATCH_CONCURRENCY: usize = 8;
+
+/// An asset to import from the service's object store.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ByUrlRequest {
+    /// Object-store key, e.g. `incoming/t1/cabinet.glb` (under one of the tenant's prefixes).
+    pub url: String,
+    /// Name to store it under, with its extension; defaults to the key's last component.
+    pub filename: Option<String>,
+    /// Higher runs first (default 0).
+    pub priority: Option<i32>,
+}
+
+/// A batch manifest.
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BatchRequest {
+    /// The assets; all are validated before any is submitted.
+    pub items: Vec<ByUrlRequest>,
+}
+
+/// The result of one batch item.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct BatchItemResult {
+    /// Position in the manifest.
+    pub index: usize,
+    /// HTTP status this item would have answered alone (201, 200, or an error status).
+    pub status: u16,
+    /// The submission, when it succeeded.
+    pub submission: Option<SubmitResponse>,
+    /// The error, when it failed.
+    pub error: Option<ErrorDetail>,
+}
+
+/// The answer to a batch.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct BatchResponse {
+    /// One result per item, in manifest order.
+    pub items: Vec<BatchItemResult>,
+}
+
+/// A validated import: the key to read, the name to store it under.
+struct Import {
+    key: String,
+    filename: String,
+    priority: Option<i32>,
+}
+
+/// Submit an asset already in the service's object store.
+#[utoipa::path(
+    post,
+    path = "/v1/assets/by-url",
+    tag = "assets",
+    request_body = ByUrlRequest,
+    responses(
+        (status = 201, description = "Asset and job created", body = SubmitResponse),
+        (status = 200, description = "Same content submitted before: the existing ids", body = SubmitResponse),
+        (status = 400, description = "Malformed JSON or unknown field", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 413, description = "Object over the size limit", body = ErrorBody),
+        (status = 422, description = "No such object, a key outside the tenant's prefixes, or a bad filename", body = ErrorBody),
+        (status = 429, description = "Tenant backlog full; see Retry-After", body = ErrorBody),
+        (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
+    ),
+    security(("api_key" = []))
+)]
+pub(crate) async fn by_url(
+    State(state): State<Shared>,
+    Tenant(tenant): Tenant,
+    ApiJson(request): ApiJson<ByUrlRequest>,
+) -> ApiResult<Response> {
+    let import = validate(&state, tenant, &request).await?;
+    check_backlog(&state, tenant, 1).await?;
+    let (created, answer) = run_import(&state, tenant, import).await?;
+    Ok(submitted(created, answer))
+}
+
+/// Submit many assets from a manifest.
+///
+/// Every item is validated first (all or nothing: one bad item answers 422 naming each bad item
+/// and submits none); then each is submitted and gets its own result.
+#[utoipa::path(
+    post,
+    path = "/v1/batches",
+    tag = "assets",
+    request_body = BatchRequest,
+    responses(
+        (status = 200, description = "Per-item results", body = BatchResponse),
+        (status = 400, description = "Malformed manifest or unknown field", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 413, description = "An object over the size limit", body = ErrorBody),
+        (status = 422, description = "Empty or too long, or bad items (each named)", body = ErrorBody),
+        (status = 429, description = "Tenant backlog cannot take the batch; see Retry-After", body = ErrorBody),
+        (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
+    ),
+    security(("api_key" = []))
+)]
+pub(crate) async fn batch(
+    State(state): State<Shared>,
+    Tenant(tenant): Tenant,
+    ApiJson(request): ApiJson<BatchRequest>,
+) -> ApiResult<Json<BatchResponse>> {
+    let max = state.config.max_batch_items;
+    if request.items.is_empty() {
+        return Err(ApiError::Unprocessable("items must not be empty".into()));
+    }
+    if request.items.len() > max {
+        return Err(ApiError::Unprocessable(format!(
+            "a batch holds at most {max} items, got {}",
+            request.items.len()
+        )));
+    }
+    let checks: Vec<_> = request
+        .items
+        .iter()
+        .map(|item| validate(&state, tenant, item))
+        .collect();
+    let checks: Vec<ApiResult<Import>> = futures::stream::iter(checks)
+        .buffered(BATCH_CONCURRENCY)
+        .collect()
+        .await;
+    let mut imports = Vec::with_capacity(checks.len());
+    let mut problems = Vec::new();
+    for (index, check) in checks.into_iter().enumerate() {
+        match check {
+            Ok(import) => imports.push(import),
+            Err(e @ (ApiError::Unavailable(_) | ApiError::Internal(_))) => return Err(e),
+            Err(e) => problems.push(format!("items[{index}]: {e}")),
+        }
+    }
+    if !problems.is_empty() {
+        return Err(ApiError::Unprocessable(format!(
+            "{} of {} items are invalid, nothing was submitted: {}",
+            problems.len(),
+            request.items.len(),
+            problems.join("; ")
+        )));
+    }
+    check_backlog(&state, tenant, imports.len() as u64).await?;
+    let state = &state;
+    let submissions: Vec<_> = imports
+        .into_iter()
+        .enumerate()
+        .map(|(index, import)| async move {
+            match run_import(state, tenant, import).await {
+                Ok((created, answer)) => BatchItemResult {
+                    index,
+                    status: if created { 201 } else { 200 },
+                    submission: Some(answer),
+                    error: None,
+                },
+                Err(e) => {
+                    let (status, body) = e.to_body();
+                    if status.is_server_error() {
+                        tracing::error!(index, error = %e, "batch item failed");
+                    }
+                    BatchItemResult {
+                        index,
+                        status: status.as_u16(),
+                        submission: None,
+                        error: Some(body.error),
+                    }
+                }
+            }
+        })
+        .collect();
+    let items = futures::stream::iter(submissions)
+        .buffered(BATCH_CONCURRENCY)
+        .collect()
+        .await;
+    Ok(Json(BatchResponse { items }))
+}
+
+/// Checks the key (form, tenant prefix, existence, size) and the filename.
+async fn validate(state: &ApiState, tenant: TenantId, request: &ByUrlRequest) -> ApiResult<Import> {
+    let key = object_key(state, tenant, &request.url)?;
+    let raw_name = request
+        .filename
+        .as_deref()
+        .unwrap_or_else(|| key.rsplit('/').next().unwrap_or_default());
+    let filename = sanitize_filename(raw_name)?;
+    let Some(size_bytes) = state.artifacts.head(&key).await? else {
+        return Err(ApiError::Unprocessable(format!("no object at {key}")));
+    };
+    if size_bytes > state.config.max_upload_bytes {
+        return Err(too_large(state.config.max_upload_bytes));
+    }
+    Ok(Import {
+        key,
+        filename,
+        priority: request.priority,
+    })
+}
+
+/// The object key named by `url`, if it is a well-formed key under one of the tenant's prefixes.
+fn object_key(state: &ApiState, tenant: TenantId, url: &str) -> ApiResult<String> {
+    if url.contains("://") {
+        return Err(ApiError::Unprocessable(format!(
+            "url must be an object-store key such as incoming/t{}/cabinet.glb; other URLs are not fetched, got {url:?}",
+            tenant.0
+        )));
+    }
+    let key = url.trim_start_matches('/');
+    let well_formed = !key.is_empty()
+        && key
+            .split('/')
+            .all(|c| !c.is_empty() && c != "." && c != ".." && !c.chars().any(char::is_control));
+    if !well_formed {
+        return Err(ApiError::Unprocessable(format!(
+            "url must be a key of non-empty components without . or .., got {url:?}"
+        )));
+    }
+    let prefixes: Vec<String> = state
+        .config
+        .url_prefixes
+        .iter()
+        .map(|p| p.replace("{tenant}", &tenant.0.to_string()))
+        .collect();
+    if !prefixes.iter().any(|p| key.starts_with(p.as_str())) {
+        return Err(ApiError::Unprocessable(format!(
+            "url must name an object under {}, got {url:?}",
+            prefixes.join(" or ")
+        )));
+    }
+    Ok(key.to_owned())
+}
+
+/// Streams the object to a spool file (hashing it) and stores and submits it.
+async fn run_import(
+    state: &ApiState,
+    tenant: TenantId,
+    import: Import,
+) -> ApiResult<(bool, SubmitResponse)> {
+    let (_, stream) = state.artifacts.get_stream(&import.key).await?;
+    let spooled = spool(
+        stream.map_err(ApiError::from),
+        state.config.upload_tmp_dir.clone(),
+        state.config.max_upload_bytes,
+        |e| e,
+    )
+    .await?;
+    store_and_submit(state, tenant, spooled, &import.filename, import.priority).await
+}

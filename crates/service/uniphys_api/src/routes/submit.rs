@@ -1,0 +1,173 @@
+//! `POST /v1/assets`: submit an asset by upload; and the submission steps every way of
+//! submitting shares (backlog check, storing the source, creating the job).
+
+use std::collections::BTreeSet;
+
+use axum::Json;
+use axum::body::Body;
+use axum::extract::State;
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::{Deserialize, Serialize};
+use uniphys_queue::{NewAsset, TenantId};
+use utoipa::{IntoParams, ToSchema};
+
+use crate::ApiState;
+use crate::error::{ApiError, ApiResult, ErrorBody};
+use crate::extract::{ApiQuery, Tenant};
+use crate::state::Shared;
+use crate::upload::{Spooled, sanitize_filename, spool_body, too_large};
+
+/// Query of an upload.
+#[derive(Debug, Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+#[into_params(parameter_in = Query)]
+pub(crate) struct UploadParams {
+    /// Name of the file, with its extension (`cabinet.glb`); stages choose their reader by it.
+    filename: String,
+    /// Higher runs first (default 0).
+    priority: Option<i32>,
+}
+
+/// The answer to a submission.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct SubmitResponse {
+    /// `asset_<n>`.
+    pub asset_id: String,
+    /// `job_<n>`: the job created for it, or its latest job on a re-submit.
+    pub job_id: String,
+    /// Whether the asset is new (201); `false` for a re-submit of the same content (200).
+    pub created: bool,
+    /// `sha256:<hex>` of the content.
+    pub content_digest: String,
+    /// Object-store key of the stored content.
+    pub source_key: String,
+    /// Size of the content.
+    pub size_bytes: u64,
+}
+
+/// Submit an asset by uploading its file.
+///
+/// The body is the file's bytes, streamed to disk while hashed. Submitting the same content again
+/// answers 200 with the same ids.
+#[utoipa::path(
+    post,
+    path = "/v1/assets",
+    tag = "assets",
+    params(UploadParams),
+    request_body(content = Vec<u8>, content_type = "application/octet-stream", description = "The file's bytes."),
+    responses(
+        (status = 201, description = "Asset and job created", body = SubmitResponse),
+        (status = 200, description = "Same content submitted before: the existing ids", body = SubmitResponse),
+        (status = 400, description = "Malformed query", body = ErrorBody),
+        (status = 401, description = "Missing or unknown API key", body = ErrorBody),
+        (status = 413, description = "Upload over the size limit; nothing stored", body = ErrorBody),
+        (status = 422, description = "Filename without an extension", body = ErrorBody),
+        (status = 429, description = "Tenant backlog full; see Retry-After", body = ErrorBody),
+        (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
+    ),
+    security(("api_key" = []))
+)]
+pub(crate) async fn upload(
+    State(state): State<Shared>,
+    Tenant(tenant): Tenant,
+    ApiQuery(params): ApiQuery<UploadParams>,
+    headers: HeaderMap,
+    body: Body,
+) -> ApiResult<Response> {
+    let filename = sanitize_filename(&params.filename)?;
+    let max = state.config.max_upload_bytes;
+    let declared = headers
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.parse::<u64>().ok());
+    if declared.is_some_and(|n| n > max) {
+        return Err(too_large(max));
+    }
+    check_backlog(&state, tenant, 1).await?;
+    let spooled = spool_body(body, state.config.upload_tmp_dir.clone(), max).await?;
+    let (created, answer) =
+        store_and_submit(&state, tenant, spooled, &filename, params.priority).await?;
+    Ok(submitted(created, answer))
+}
+
+/// Refuses with 429 when `jobs` more jobs would take the tenant's unfinished stage runs over its cap.
+pub(crate) async fn check_backlog(state: &ApiState, tenant: TenantId, jobs: u64) -> ApiResult<()> {
+    let cap = state.config.max_backlog_per_tenant;
+    let backlog = state.store.tenant_backlog(tenant).await?;
+    let adding = jobs.saturating_mul(state.config.job_spec.stages.len() as u64);
+    if backlog.saturating_add(adding) > cap {
+        return Err(ApiError::Backpressure {
+            message: format!(
+                "backlog full: the tenant has {backlog} unfinished stage runs and this request adds {adding} (cap {cap}); retry later"
+            ),
+            retry_after_secs: state.config.backlog_retry_after_secs,
+        });
+    }
+    Ok(())
+}
+
+/// Stores a spooled source under `sources/t{tenant}/{sha256}/{filename}` and submits it;
+/// returns whether the asset is new, and the answer.
+pub(crate) async fn store_and_submit(
+    state: &ApiState,
+    tenant: TenantId,
+    spooled: Spooled,
+    filename: &str,
+    priority: Option<i32>,
+) -> ApiResult<(bool, SubmitResponse)> {
+    let key = format!("sources/t{}/{}/{filename}", tenant.0, spooled.sha256_hex);
+    state.artifacts.put_file(&key, &spooled.path).await?;
+    drop(spooled.path);
+    let mut spec = state.config.job_spec.clone();
+    if let Some(priority) = priority {
+        spec.priority = priority;
+    }
+    spec.trace_parent = state.hooks.current_traceparent();
+    let asset = NewAsset {
+        content_digest: format!("sha256:{}", spooled.sha256_hex),
+        source_uri: key,
+        size_bytes: spooled.size_bytes,
+    };
+    let submission = state.store.submit(tenant, &asset, &spec).await?;
+    if submission.job_created {
+        let roots: BTreeSet<String> = spec
+            .stages
+            .iter()
+            .filter(|s| s.depends_on.is_empty())
+            .map(|s| s.name.clone())
+            .collect();
+        let roots: Vec<String> = roots.into_iter().collect();
+        state.hooks.on_stages_ready(&roots).await;
+    }
+    tracing::info!(
+        asset_id = %submission.asset_id,
+        job_id = %submission.job_id,
+        created = submission.asset_created,
+        "asset submitted"
+    );
+    let answer = SubmitResponse {
+        asset_id: submission.asset_id.to_string(),
+        job_id: submission.job_id.to_string(),
+        created: submission.asset_created,
+        content_digest: asset.content_digest,
+        source_key: asset.source_uri,
+        size_bytes: asset.size_bytes,
+    };
+    Ok((submission.asset_created, answer))
+}
+
+/// 201 with `Location` for a new asset, 200 for a re-submit.
+pub(crate) fn submitted(created: bool, answer: SubmitResponse) -> Response {
+    let status = if created {
+        StatusCode::CREATED
+    } else {
+        StatusCode::OK
+    };
+    let location = HeaderValue::from_str(&format!("/v1/assets/{}", answer.asset_id)).ok();
+    let mut response = (status, Json(answer)).into_response();
+    if let Some(location) = location {
+        response.headers_mut().insert(header::LOCATION, location);
+    }
+    response
+}

@@ -1,0 +1,55 @@
+//! What every handler shares: the queue store, the artifact store, the limits and the hooks.
+
+use std::sync::Arc;
+
+use uniphys_queue::QueueStore;
+use uniphys_storage::ArtifactStore;
+
+use crate::{ApiConfig, NoHooks, ServiceHooks};
+
+/// The API's dependencies. [`crate::router`] wraps it in an `Arc`, so it need not be cheap to
+/// clone.
+#[derive(Clone)]
+pub struct ApiState {
+    /// Jobs, stage runs, tenants and API keys.
+    pub store: QueueStore,
+    /// Uploaded sources and stage artifacts.
+    pub artifacts: ArtifactStore,
+    /// Limits and the stage graph of submissions.
+    pub config: ApiConfig,
+    /// Doorbell, progress, metrics, trace context, readiness.
+    pub hooks: Arc<dyn ServiceHooks>,
+}
+
+impl ApiState {
+    /// A state with [`NoHooks`].
+    #[must_use]
+    pub fn new(store: QueueStore, artifacts: ArtifactStore, config: ApiConfig) -> Self {
+        Self {
+            store,
+            artifacts,
+            config,
+            hooks: Arc::new(NoHooks),
+        }
+    }
+
+    /// Replaces the hooks.
+    #[must_use]
+    pub fn with_hooks(mut self, hooks: Arc<dyn ServiceHooks>) -> Self {
+        self.hooks = hooks;
+        self
+    }
+}
+
+impl std::fmt::Debug for ApiState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ApiState")
+            .field("store", &self.store)
+            .field("artifacts", &self.artifacts)
+            .field("config", &self.config)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The state as handlers see it.
+pub(crate) type Shared = Arc<ApiState>;

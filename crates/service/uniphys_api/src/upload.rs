@@ -1,0 +1,191 @@
+//! Streaming an upload to a spool file while hashing it, under a size cap; and the names and
+//! content types of stored files.
+
+use std::path::PathBuf;
+
+use axum::body::{Body, Bytes};
+use futures::StreamExt;
+use sha2::{Digest, Sha256};
+use tempfile::TempPath;
+use tokio::io::AsyncWriteExt;
+
+use crate::error::{ApiError, ApiResult, error_chain};
+
+/// Longest stored filename, in bytes (the extension is kept when a name is cut).
+const MAX_FILENAME_BYTES: usize = 120;
+
+/// An upload on local disk (deleted when dropped), with its digest and size.
+#[derive(Debug)]
+pub(crate) struct Spooled {
+    /// The spool file.
+    pub path: TempPath,
+    /// Lowercase hex SHA-256 of the content.
+    pub sha256_hex: String,
+    /// Its size.
+    pub size_bytes: u64,
+}
+
+/// Writes `body` to a new file in `dir` (or the system temp dir), hashing it on the way; the body
+/// is never held whole in memory. More than `max_bytes` answers 413 and leaves no file.
+pub(crate) async fn spool_body(
+    body: Body,
+    dir: Option<PathBuf>,
+    max_bytes: u64,
+) -> ApiResult<Spooled> {
+    let read_error = |e: axum::Error| {
+        ApiError::bad_request("invalid_body", format!("reading the upload failed: {e}"))
+    };
+    spool(body.into_data_stream(), dir, max_bytes, read_error).await
+}
+
+/// Writes the chunks of `stream` to a new spool file, hashing them, up to `max_bytes`; a chunk
+/// error becomes `read_error(e)`.
+pub(crate) async fn spool<S, E>(
+    mut stream: S,
+    dir: Option<PathBuf>,
+    max_bytes: u64,
+    read_error: impl Fn(E) -> ApiError,
+) -> ApiResult<Spooled>
+where
+    S: futures::Stream<Item = Result<Bytes, E>> + Unpin,
+{
+    let (file, path) = tokio::task::spawn_blocking(move || {
+        let mut builder = tempfile::Builder::new();
+        builder.prefix("upload-");
+        match dir {
+            Some(dir) => builder.tempfile_in(dir),
+            None => builder.tempfile(),
+        }
+    })
+    .await
+    .map_err(|e| ApiError::Internal(format!("spool task failed: {e}")))?
+    .map_err(|e| ApiError::Internal(format!("cannot create a spool file: {}", error_chain(&e))))?
+    .into_parts();
+    let mut file = tokio::fs::File::from_std(file);
+    let mut hasher = Sha256::new();
+    let mut size_bytes = 0u64;
+    while let Some(chunk) = stream.next().await {
+        let chunk = chunk.map_err(&read_error)?;
+        size_bytes += chunk.len() as u64;
+        if size_bytes > max_bytes {
+            return Err(too_large(max_bytes));
+        }
+        hasher.update(&chunk);
+        file.write_all(&chunk).await.map_err(spool_error)?;
+    }
+    file.flush().await.map_err(spool_error)?;
+    Ok(Spooled {
+        path,
+        sha256_hex: hex::encode(hasher.finalize()),
+        size_bytes,
+    })
+}
+
+fn spool_error(e: std::io::Error) -> ApiError {
+    ApiError::Internal(format!("writing the spool file failed: {e}"))
+}
+
+/// The 413 answer for uploads over `max_bytes`.
+pub(crate) fn too_large(max_bytes: u64) -> ApiError {
+    ApiError::PayloadTooLarge(format!(
+        "upload exceeds the limit of {max_bytes} bytes; split the asset or submit it by object-store key"
+    ))
+}
+
+/// A filename safe to use as the last component of an object key: the basename of `raw`, with
+/// every character outside `[A-Za-z0-9._-]` replaced by `_`, no leading dots, and an extension
+/// (required, since stages pick their reader by it).
+pub(crate) fn sanitize_filename(raw: &str) -> ApiResult<String> {
+    let base = raw.rsplit(['/', '\\']).next().unwrap_or_default();
+    let cleaned: String = base
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let cleaned = cleaned.trim_start_matches('.');
+    let Some((stem, ext)) = cleaned
+        .rsplit_once('.')
+        .filter(|(s, e)| !s.is_empty() && !e.is_empty())
+    else {
+        return Err(ApiError::Unprocessable(format!(
+            "filename must be a name with an extension such as cabinet.glb, got {raw:?}"
+        )));
+    };
+    let keep = MAX_FILENAME_BYTES.saturating_sub(ext.len() + 1).max(1);
+    let stem = &stem[..stem.len().min(keep)];
+    Ok(format!("{stem}.{ext}"))
+}
+
+/// The content type served for a stored file, by its extension.
+pub(crate) fn content_type_for(name: &str) -> &'static str {
+    let ext = name
+        .rsplit_once('.')
+        .map(|(_, e)| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "glb" => "model/gltf-binary",
+        "gltf" => "model/gltf+json",
+        "obj" => "model/obj",
+        "stl" => "model/stl",
+        "mtl" => "model/mtl",
+        "urdf" | "xml" | "mjcf" | "sdf" => "application/xml",
+        "json" => "application/json",
+        "png" => "image/png",
+        "jpg" | "jpeg" => "image/jpeg",
+        "txt" | "log" => "text/plain; charset=utf-8",
+        "zip" => "application/zip",
+        _ => "application/octet-stream",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn filenames_keep_their_basename_and_extension_only() {
+        let ok = |raw: &str| sanitize_filename(raw).expect(raw);
+        assert_eq!(ok("cabinet.glb"), "cabinet.glb");
+        assert_eq!(ok("../../etc/passwd.txt"), "passwd.txt");
+        assert_eq!(ok("C:\\models\\my chair (1).OBJ"), "my_chair__1_.OBJ");
+        assert_eq!(ok("..hidden.glb"), "hidden.glb");
+        let long = format!("{}.glb", "a".repeat(500));
+        assert_eq!(ok(&long).len(), MAX_FILENAME_BYTES);
+        assert!(ok(&long).ends_with(".glb"));
+        for bad in ["", "noext", ".glb", "x.", "dir/", ".."] {
+            assert!(sanitize_filename(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn content_types_follow_the_extension() {
+        assert_eq!(content_type_for("export/model.urdf"), "application/xml");
+        assert_eq!(content_type_for("a.GLB"), "model/gltf-binary");
+        assert_eq!(content_type_for("blob"), "application/octet-stream");
+    }
+
+    #[tokio::test]
+    async fn spooling_hashes_and_stops_at_the_cap() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let spooled = spool_body(Body::from("abc"), Some(dir.path().into()), 3)
+            .await
+            .expect("within the cap");
+        assert_eq!(spooled.size_bytes, 3);
+        assert_eq!(
+            spooled.sha256_hex,
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        drop(spooled);
+        let err = spool_body(Body::from("abcd"), Some(dir.path().into()), 3)
+            .await
+            .expect_err("over the cap");
+        assert!(matches!(err, ApiError::PayloadTooLarge(_)));
+        let left = std::fs::read_dir(dir.path()).expect("read dir").count();
+        assert_eq!(left, 0, "spool files are removed");
+    }
+}
