@@ -1,0 +1,89 @@
+//! Which stages a worker binary knows, and the stage graph a submitted asset gets.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::time::Duration;
+
+use uniphys_queue::{JobSpec, StageSpec};
+
+use crate::stage::Stage;
+use crate::stages::{ConvertStage, IngestStage, StandInStage};
+
+/// Stages by name.
+#[derive(Clone, Default)]
+pub struct StageRegistry {
+    stages: BTreeMap<String, Arc<dyn Stage>>,
+}
+
+impl std::fmt::Debug for StageRegistry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.stages.keys()).finish()
+    }
+}
+
+impl StageRegistry {
+    /// The real pipeline: `ingest` then `convert`.
+    #[must_use]
+    pub fn pipeline() -> Self {
+        Self::default()
+            .with(IngestStage::default())
+            .with(ConvertStage::default())
+    }
+
+    /// Deterministic stand-ins named `names`, each taking `work` (tests, crash tests, benches).
+    #[must_use]
+    pub fn stand_ins(names: &[&str], work: Duration) -> Self {
+        names.iter().fold(Self::default(), |registry, name| {
+            registry.with(StandInStage::new(*name, work))
+        })
+    }
+
+    /// Adds (or replaces) a stage.
+    #[must_use]
+    pub fn with(mut self, stage: impl Stage) -> Self {
+        self.stages.insert(stage.name().to_owned(), Arc::new(stage));
+        self
+    }
+
+    /// The stage called `name`.
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<Arc<dyn Stage>> {
+        self.stages.get(name).cloned()
+    }
+
+    /// All stage names, sorted.
+    #[must_use]
+    pub fn names(&self) -> Vec<String> {
+        self.stages.keys().cloned().collect()
+    }
+}
+
+/// Attempts of a pipeline stage before it is dead-lettered.
+const PIPELINE_MAX_ATTEMPTS: u32 = 3;
+
+/// The stage graph every submitted asset gets: `ingest` → `convert`.
+#[must_use]
+pub fn pipeline_job_spec() -> JobSpec {
+    JobSpec::new(vec![
+        StageSpec::new("ingest").with_max_attempts(PIPELINE_MAX_ATTEMPTS),
+        StageSpec::new("convert")
+            .after("ingest")
+            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pipeline_graph_names_only_registered_stages() {
+        let registry = StageRegistry::pipeline();
+        let spec = pipeline_job_spec();
+        assert!(spec.validate().is_ok());
+        for stage in &spec.stages {
+            assert!(registry.get(&stage.name).is_some(), "{}", stage.name);
+        }
+        assert_eq!(registry.names(), ["convert", "ingest"]);
+    }
+}

@@ -1,0 +1,48 @@
+//! The submitted file, fetched from the artifact store into a private temporary directory under
+//! its original file name (the readers detect the format from the extension).
+
+use std::path::{Path, PathBuf};
+
+use tempfile::TempDir;
+
+use crate::stage::{StageError, StageInput};
+
+/// A local copy of an asset's source; removed on drop.
+pub struct SourceFile {
+    _dir: TempDir,
+    path: PathBuf,
+}
+
+impl SourceFile {
+    /// Fetches `input`'s source.
+    pub fn fetch(input: &StageInput) -> Result<Self, StageError> {
+        let uri = &input.asset.source_uri;
+        let name = uri
+            .rsplit('/')
+            .next()
+            .filter(|n| !n.is_empty() && *n != "." && *n != "..")
+            .ok_or_else(|| StageError::Permanent(format!("source key {uri:?} has no file name")))?;
+        let bytes = input.fetch(uri)?;
+        let dir = tempfile::tempdir()
+            .map_err(|e| StageError::Transient(format!("temporary directory: {e}")))?;
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes)
+            .map_err(|e| StageError::Transient(format!("writing {}: {e}", path.display())))?;
+        Ok(Self { _dir: dir, path })
+    }
+
+    /// Where the copy is.
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Its file name.
+    #[must_use]
+    pub fn file_name(&self) -> String {
+        self.path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
+}

@@ -1,0 +1,88 @@
+//! `convert`: the whole in-process pipeline (ingest → prepare → colliders → ground → verify →
+//! export) on the submitted file; writes every exported file (URDF, MJCF, meshes, record,
+//! report) as artifacts. An asset that fails verification is still written, with `passed: false`
+//! in the summary, exactly as `uniphys run` does.
+
+use std::time::Duration;
+
+use serde_json::{Value, json};
+use uniphys_pipeline::{Progress, RunOptions, Stage as PipelineStage, run};
+
+use crate::outputs::OutputWriter;
+use crate::source::SourceFile;
+use crate::stage::{Stage, StageControl, StageError, StageInput};
+
+/// The convert stage.
+#[derive(Clone, Debug, Default)]
+pub struct ConvertStage {
+    /// Pipeline options.
+    pub options: RunOptions,
+}
+
+/// Maps the pipeline's progress onto the run's: each of its six stages is a sixth.
+struct Relay<'a>(&'a StageControl);
+
+fn position(stage: PipelineStage) -> f64 {
+    let index = PipelineStage::ALL
+        .iter()
+        .position(|s| *s == stage)
+        .unwrap_or(0);
+    index as f64 / PipelineStage::ALL.len() as f64
+}
+
+impl Progress for Relay<'_> {
+    fn stage_started(&self, stage: PipelineStage) {
+        self.0.progress(position(stage), stage.name());
+    }
+
+    fn stage_advanced(&self, stage: PipelineStage, done: usize, total: usize) {
+        let within = done as f64 / total.max(1) as f64;
+        let share = 1.0 / PipelineStage::ALL.len() as f64;
+        self.0.progress(
+            position(stage) + within * share,
+            format!("{} {done}/{total}", stage.name()),
+        );
+    }
+
+    fn stage_finished(&self, _: PipelineStage, _: Duration, _: &str) {}
+}
+
+impl Stage for ConvertStage {
+    fn name(&self) -> &str {
+        "convert"
+    }
+
+    fn version(&self) -> u32 {
+        1
+    }
+
+    fn run(
+        &self,
+        input: &StageInput,
+        out: &mut OutputWriter,
+        control: &StageControl,
+    ) -> Result<Value, StageError> {
+        input.upstream("ingest")?;
+        let source = SourceFile::fetch(input)?;
+        let output = run(source.path(), &self.options, &Relay(control))
+            .map_err(|e| StageError::Permanent(format!("the pipeline failed: {e}")))?;
+        control.check()?;
+        let files = output.artifacts.len();
+        for artifact in output.artifacts {
+            out.put(&artifact.path, artifact.bytes)?;
+        }
+        let timings: serde_json::Map<String, Value> = output
+            .timings
+            .iter()
+            .map(|(stage, elapsed)| (stage.name().to_owned(), json!(elapsed.as_secs_f64())))
+            .collect();
+        Ok(json!({
+            "passed": output.report.passed(),
+            "name": output.record.name,
+            "parts": output.record.parts.len(),
+            "joints": output.record.joints.len(),
+            "files": files,
+            "stage_secs": timings,
+        }))
+    }
+}

@@ -1,0 +1,275 @@
+//! The worker against a real store (SQLite in a temp dir) and a local object store: stand-in
+//! graphs run to the end with deterministic outputs, a broken input dead-letters at once with a
+//! readable error, the real pipeline converts an example, and shutdown releases what it holds.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use tokio_util::sync::CancellationToken;
+use uniphys_hints::Hints;
+use uniphys_queue::{
+    JobSpec, JobState, NewAsset, OutputManifest, QueueStore, StageState, StoreConfig, TenantId,
+};
+use uniphys_storage::ArtifactStore;
+use uniphys_telemetry::Metrics;
+use uniphys_worker::{StageRegistry, StageSlots, Worker, WorkerConfig, pipeline_job_spec};
+
+struct Fixture {
+    _dir: tempfile::TempDir,
+    store: QueueStore,
+    artifacts: ArtifactStore,
+    tenant: TenantId,
+}
+
+async fn fixture() -> Fixture {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let url = format!("sqlite:{}", dir.path().join("queue.db").display());
+    let store = QueueStore::open(&StoreConfig::new(url)).expect("store");
+    store.migrate().await.expect("migrate");
+    let tenant = store.create_tenant("acme").await.expect("tenant");
+    let artifacts = ArtifactStore::local(&dir.path().join("objects")).expect("objects");
+    Fixture {
+        _dir: dir,
+        store,
+        artifacts,
+        tenant,
+    }
+}
+
+fn config(stages: &[(&str, usize)]) -> WorkerConfig {
+    WorkerConfig {
+        stages: stages
+            .iter()
+            .map(|(name, n)| StageSlots::new(*name, *n))
+            .collect(),
+        lease: Duration::from_secs(5),
+        poll_interval: Duration::from_millis(200),
+        reap_interval: Duration::from_millis(500),
+        shutdown_grace: Duration::from_millis(300),
+    }
+}
+
+impl Fixture {
+    async fn submit_file(&self, path: &Path, spec: &JobSpec) -> uniphys_queue::Submission {
+        let bytes = std::fs::read(path).expect("example file");
+        let name = path.file_name().expect("name").to_string_lossy();
+        let digest = format!("{:x}", bytes.len()) + &name;
+        let key = format!("sources/t{}/{digest}/{name}", self.tenant.0);
+        let size = bytes.len() as u64;
+        self.artifacts.put(&key, bytes).await.expect("put source");
+        let asset = NewAsset {
+            content_digest: format!("sha256:{digest}"),
+            source_uri: key,
+            size_bytes: size,
+        };
+        self.store
+            .submit(self.tenant, &asset, spec)
+            .await
+            .expect("submit")
+    }
+
+    fn start(
+        &self,
+        registry: StageRegistry,
+        config: WorkerConfig,
+    ) -> (CancellationToken, tokio::task::JoinHandle<()>) {
+        let worker = Worker::new(
+            self.store.clone(),
+            self.artifacts.clone(),
+            Hints::local(),
+            Metrics::new(),
+            registry,
+            config,
+        )
+        .expect("valid worker");
+        let shutdown = CancellationToken::new();
+        let token = shutdown.clone();
+        let handle = tokio::spawn(async move {
+            worker.run(token).await.expect("worker runs");
+        });
+        (shutdown, handle)
+    }
+
+    async fn wait_finished(&self, jobs: &[uniphys_queue::JobId], within: Duration) {
+        let until = Instant::now() + within;
+        loop {
+            let mut open = 0;
+            for job in jobs {
+                let detail = self.store.get_job(self.tenant, *job).await.expect("job");
+                if detail.state == JobState::Running {
+                    open += 1;
+                }
+            }
+            if open == 0 {
+                return;
+            }
+            assert!(
+                Instant::now() < until,
+                "{open} jobs still running after {within:?}"
+            );
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn stand_in_graphs_complete_with_deterministic_outputs() {
+    let f = fixture().await;
+    let spec = JobSpec::chain(&["a", "b"]);
+    let mut jobs = Vec::new();
+    for i in 0..20 {
+        let asset = NewAsset {
+            content_digest: format!("sha256:{i}"),
+            source_uri: format!("sources/{i}"),
+            size_bytes: 1,
+        };
+        jobs.push(
+            f.store
+                .submit(f.tenant, &asset, &spec)
+                .await
+                .expect("submit")
+                .job_id,
+        );
+    }
+    let registry = StageRegistry::stand_ins(&["a", "b"], Duration::from_millis(5));
+    let (shutdown, handle) = f.start(registry, config(&[("a", 3), ("b", 2)]));
+    f.wait_finished(&jobs, Duration::from_secs(60)).await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+
+    for job in &jobs {
+        let detail = f.store.get_job(f.tenant, *job).await.expect("job");
+        assert_eq!(detail.state, JobState::Succeeded);
+        let a = detail.stage("a").expect("a");
+        let b = detail.stage("b").expect("b");
+        assert_eq!(a.attempt, 1, "one execution each without faults");
+        let ma = OutputManifest::from_value(a.output_manifest.as_ref().expect("manifest"))
+            .expect("shape");
+        let mb = OutputManifest::from_value(b.output_manifest.as_ref().expect("manifest"))
+            .expect("shape");
+        let out_a = f
+            .artifacts
+            .get(&ma.artifacts[0].key)
+            .await
+            .expect("a's output");
+        let out_b = f
+            .artifacts
+            .get(&mb.artifacts[0].key)
+            .await
+            .expect("b's output");
+        assert!(out_a.starts_with(b"a:"));
+        assert!(out_b.starts_with(b"b:"));
+        assert_ne!(out_a, out_b);
+        // b's key and bytes depend on a's output: its prefix carries a's digest.
+        assert!(
+            mb.artifacts[0]
+                .key
+                .starts_with(&format!("{}/b/v1/", detail.asset_id.0))
+        );
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_broken_input_is_dead_lettered_at_once_with_a_readable_error() {
+    let f = fixture().await;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let broken = dir.path().join("broken.glb");
+    std::fs::write(&broken, b"glTF this is not a real binary glTF").expect("write");
+    let sub = f.submit_file(&broken, &pipeline_job_spec()).await;
+    let (shutdown, handle) = f.start(
+        StageRegistry::pipeline(),
+        config(&[("ingest", 1), ("convert", 1)]),
+    );
+    f.wait_finished(&[sub.job_id], Duration::from_secs(60))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Dead);
+    let ingest = job.stage("ingest").expect("ingest");
+    assert_eq!(ingest.state, StageState::Dead);
+    assert_eq!(ingest.attempt, 1, "a permanent failure is not retried");
+    let message = &ingest.errors[0].message;
+    assert!(message.contains("the input cannot be read"), "{message}");
+    assert!(
+        message.contains("broken.glb") || message.contains("glTF") || message.contains("GLB"),
+        "{message}"
+    );
+    // Downstream waits, so a retry of the dead job can resume it.
+    assert_eq!(
+        job.stage("convert").expect("convert").state,
+        StageState::Blocked
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn the_pipeline_converts_an_example_into_its_artifacts() {
+    let f = fixture().await;
+    let mug = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples/mug.glb");
+    let sub = f.submit_file(&mug, &pipeline_job_spec()).await;
+    let (shutdown, handle) = f.start(
+        StageRegistry::pipeline(),
+        config(&[("ingest", 1), ("convert", 1)]),
+    );
+    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    let convert = job.stage("convert").expect("convert");
+    let manifest = OutputManifest::from_value(convert.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    for name in ["model.urdf", "model.xml", "record.json", "report.json"] {
+        let entry = manifest
+            .artifact(name)
+            .unwrap_or_else(|| panic!("{name} in {manifest:?}"));
+        let bytes = f.artifacts.get(&entry.key).await.expect("artifact");
+        assert_eq!(bytes.len() as u64, entry.bytes);
+    }
+    assert!(
+        manifest.summary["parts"].as_u64().is_some_and(|n| n >= 1),
+        "{}",
+        manifest.summary
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn shutdown_releases_runs_that_outlive_the_grace_period() {
+    let f = fixture().await;
+    let asset = NewAsset {
+        content_digest: "sha256:slow".into(),
+        source_uri: "sources/slow".into(),
+        size_bytes: 1,
+    };
+    let sub = f
+        .store
+        .submit(f.tenant, &asset, &JobSpec::chain(&["slow"]))
+        .await
+        .expect("submit");
+    let registry = StageRegistry::stand_ins(&["slow"], Duration::from_secs(30));
+    let (shutdown, handle) = f.start(registry, config(&[("slow", 1)]));
+    let until = Instant::now() + Duration::from_secs(20);
+    loop {
+        let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+        if job.stage("slow").expect("slow").state == StageState::Running {
+            break;
+        }
+        assert!(Instant::now() < until, "never claimed");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    shutdown.cancel();
+    tokio::time::timeout(Duration::from_secs(10), handle)
+        .await
+        .expect("shutdown within grace + release")
+        .expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    let run = job.stage("slow").expect("slow");
+    assert_eq!(run.state, StageState::Ready, "released, claimable at once");
+    assert_eq!(
+        run.max_attempts,
+        uniphys_queue::DEFAULT_MAX_ATTEMPTS + 1,
+        "the release did not use up an attempt"
+    );
+    assert!(run.errors.is_empty());
+}
