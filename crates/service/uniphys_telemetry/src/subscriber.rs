@@ -10,6 +10,7 @@ use opentelemetry_sdk::propagation::TraceContextPropagator;
 use opentelemetry_sdk::trace::{SdkTracer, SdkTracerProvider};
 use tracing::Subscriber;
 use tracing_opentelemetry::OpenTelemetryLayer;
+use tracing_subscriber::fmt::MakeWriter;
 use tracing_subscriber::layer::SubscriberExt as _;
 use tracing_subscriber::registry::LookupSpan;
 use tracing_subscriber::{EnvFilter, Layer, Registry};
@@ -100,14 +101,26 @@ pub fn subscriber(
     Ok((Box::new(subscriber), TelemetryGuard { provider }))
 }
 
-/// The log layer: lines on standard error, as text or as one JSON object per line (with the
-/// current span and the spans it is in).
+/// The log layer: lines on standard error, as text (coloured on a terminal) or as one JSON
+/// object per line (with the current span and the spans it is in).
 #[must_use]
 pub fn fmt_layer<S>(format: LogFormat) -> BoxedLayer<S>
 where
     S: Subscriber + for<'a> LookupSpan<'a>,
 {
-    let layer = tracing_subscriber::fmt::layer().with_writer(std::io::stderr);
+    let ansi = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    fmt_layer_to(format, ansi, std::io::stderr)
+}
+
+/// [`fmt_layer`] writing to `writer` (tests capture the lines).
+fn fmt_layer_to<S, W>(format: LogFormat, ansi: bool, writer: W) -> BoxedLayer<S>
+where
+    S: Subscriber + for<'a> LookupSpan<'a>,
+    W: for<'w> MakeWriter<'w> + Send + Sync + 'static,
+{
+    let layer = tracing_subscriber::fmt::layer()
+        .with_writer(writer)
+        .with_ansi(ansi);
     match format {
         LogFormat::Text => layer.boxed(),
         LogFormat::Json => layer
@@ -149,4 +162,70 @@ pub fn tracer_provider(config: &TelemetryConfig) -> TelemetryResult<Option<SdkTr
             .with_batch_exporter(exporter)
             .build(),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Write;
+    use std::sync::{Arc, Mutex};
+
+    use super::*;
+
+    /// Collects written bytes.
+    #[derive(Clone, Default)]
+    struct Capture(Arc<Mutex<Vec<u8>>>);
+
+    impl Write for Capture {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.lock().expect("capture lock").extend_from_slice(buf);
+            Ok(buf.len())
+        }
+
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl<'w> MakeWriter<'w> for Capture {
+        type Writer = Self;
+
+        fn make_writer(&'w self) -> Self::Writer {
+            self.clone()
+        }
+    }
+
+    fn log_one_event(format: LogFormat) -> String {
+        let capture = Capture::default();
+        let subscriber = Registry::default().with(fmt_layer_to(format, false, capture.clone()));
+        tracing::subscriber::with_default(subscriber, || {
+            let span = crate::stage_span("decompose", 12, 34, 2, None);
+            let _entered = span.enter();
+            tracing::info!(parts = 5, "split into parts");
+        });
+        let bytes = capture.0.lock().expect("capture lock").clone();
+        String::from_utf8(bytes).expect("utf-8 log")
+    }
+
+    #[test]
+    fn json_lines_carry_the_event_and_its_stage_span() {
+        let out = log_one_event(LogFormat::Json);
+        let line: serde_json::Value =
+            serde_json::from_str(out.trim_end()).expect("one JSON object per line");
+        assert_eq!(line["level"], "INFO");
+        assert_eq!(line["fields"]["message"], "split into parts");
+        assert_eq!(line["fields"]["parts"], 5);
+        assert_eq!(line["span"]["name"], "stage");
+        assert_eq!(line["span"]["stage"], "decompose");
+        assert_eq!(line["span"]["job_id"], 12);
+        assert_eq!(line["span"]["run_id"], 34);
+        assert_eq!(line["span"]["attempt"], 2);
+    }
+
+    #[test]
+    fn text_lines_name_the_span_fields() {
+        let out = log_one_event(LogFormat::Text);
+        assert!(out.contains("split into parts"), "{out}");
+        assert!(out.contains("stage=\"decompose\""), "{out}");
+        assert!(out.contains("job_id=12"), "{out}");
+    }
 }
