@@ -78,7 +78,7 @@ struct Inner {
     http_requests: Family<HttpLabels, Counter>,
     http_request_duration: Histograms<HttpRouteLabels>,
     hints_errors: Family<OpLabels, Counter>,
-    /// Serialises gauge refreshes (each clears and refills its families).
+    /// Serialises gauge refreshes (each clears and refills its families) with encoding.
     refresh: Mutex<()>,
 }
 
@@ -250,6 +250,12 @@ impl Metrics {
     /// [`Metrics::CONTENT_TYPE`]).
     #[must_use]
     pub fn encode(&self) -> String {
+        // Not in the middle of a gauge refresh (which clears, then refills, its families).
+        let _serial = self
+            .inner
+            .refresh
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         let mut text = String::new();
         // Writing to a String cannot fail; label values are escaped by the encoder.
         if prometheus_client::encoding::text::encode(&mut text, &self.inner.registry).is_err() {
