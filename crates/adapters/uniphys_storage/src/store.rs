@@ -1,7 +1,9 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use futures::StreamExt;
+use bytes::Bytes;
+use futures::stream::BoxStream;
+use futures::{StreamExt, TryStreamExt};
 use object_store::local::LocalFileSystem;
 use object_store::memory::InMemory;
 use object_store::path::Path as StorePath;
@@ -13,7 +15,7 @@ use crate::{StorageError, StorageResult};
 /// A store of artifacts addressed by `/`-separated keys.
 #[derive(Debug, Clone)]
 pub struct ArtifactStore {
-    store: Arc<dyn ObjectStore>,
+    pub(crate) store: Arc<dyn ObjectStore>,
 }
 
 impl ArtifactStore {
@@ -46,7 +48,8 @@ impl ArtifactStore {
         Self { store }
     }
 
-    /// Writes `bytes` at `key`, replacing what was there.
+    /// Writes `bytes` at `key`, replacing what was there. Stage outputs should use
+    /// [`ArtifactStore::put_once`], which never replaces different content.
     pub async fn put(&self, key: &str, bytes: Vec<u8>) -> StorageResult<()> {
         validate_key(key)?;
         self.store
@@ -59,15 +62,63 @@ impl ArtifactStore {
             })
     }
 
-    /// Reads the object at `key`.
+    /// Reads the object at `key`; a missing object is [`StorageError::NotFound`].
     pub async fn get(&self, key: &str) -> StorageResult<Vec<u8>> {
         validate_key(key)?;
-        let map = |source| StorageError::Store {
-            key: key.to_owned(),
-            source,
-        };
+        let map = |source| StorageError::from_store(key, source);
         let result = self.store.get(&StorePath::from(key)).await.map_err(map)?;
         Ok(result.bytes().await.map_err(map)?.to_vec())
+    }
+
+    /// The size in bytes of the object at `key`, or `None` when there is none.
+    pub async fn head(&self, key: &str) -> StorageResult<Option<u64>> {
+        validate_key(key)?;
+        match self.store.head(&StorePath::from(key)).await {
+            Ok(meta) => Ok(Some(meta.size)),
+            Err(object_store::Error::NotFound { .. }) => Ok(None),
+            Err(source) => Err(StorageError::from_store(key, source)),
+        }
+    }
+
+    /// The size of the object at `key` and a stream of its bytes, for serving downloads without
+    /// holding the object in memory. A missing object is [`StorageError::NotFound`].
+    pub async fn get_stream(
+        &self,
+        key: &str,
+    ) -> StorageResult<(u64, BoxStream<'static, StorageResult<Bytes>>)> {
+        validate_key(key)?;
+        let result = self
+            .store
+            .get(&StorePath::from(key))
+            .await
+            .map_err(|source| StorageError::from_store(key, source))?;
+        let size = result.meta.size;
+        let owned_key = key.to_owned();
+        let stream = result
+            .into_stream()
+            .map_err(move |source| StorageError::from_store(&owned_key, source))
+            .boxed();
+        Ok((size, stream))
+    }
+
+    /// Deletes every object under `prefix` (a whole key prefix, compared component by component);
+    /// returns how many were deleted.
+    pub async fn delete_prefix(&self, prefix: &str) -> StorageResult<usize> {
+        validate_key(prefix)?;
+        let map = |source| StorageError::from_store(prefix, source);
+        let path = StorePath::from(prefix);
+        let locations = self
+            .store
+            .list(Some(&path))
+            .map_ok(|meta| meta.location)
+            .boxed();
+        let deleted: Vec<StorePath> = self
+            .store
+            .delete_stream(locations)
+            .try_collect()
+            .await
+            .map_err(map)?;
+        Ok(deleted.len())
     }
 
     /// Keys under `prefix`, sorted.
