@@ -7,6 +7,7 @@ use std::future::Future;
 use std::pin::Pin;
 use std::time::Duration;
 
+use axum::http::HeaderMap;
 use serde_json::Value;
 use uniphys_queue::JobId;
 
@@ -64,6 +65,12 @@ pub trait ServiceHooks: Send + Sync + 'static {
     /// Dependencies besides the queue database, checked by `GET /readyz`.
     fn readiness(&self) -> BoxFuture<'_, Vec<ReadinessCheck>> {
         Box::pin(async { Vec::new() })
+    }
+
+    /// A request's span was just created (before its handler runs): join it to the caller's
+    /// trace, e.g. from the W3C `traceparent` header.
+    fn on_request_span(&self, span: &tracing::Span, headers: &HeaderMap) {
+        let _ = (span, headers);
     }
 
     /// One HTTP request finished: its route template (`/v1/jobs/{job_id}`), method, status and

@@ -31,5 +31,5 @@ mod views;
 pub use config::{ApiConfig, DEFAULT_MAX_UPLOAD_BYTES};
 pub use error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 pub use hooks::{BoxFuture, MetricsText, NoHooks, ReadinessCheck, ServiceHooks};
-pub use router::{openapi, router};
+pub use router::{openapi, router, serve};
 pub use state::ApiState;

@@ -8,17 +8,17 @@ use axum::extract::{MatchedPath, Request, State};
 use axum::middleware::{self, Next};
 use axum::response::Response;
 use axum::{Extension, Router};
-use tower_http::trace::{DefaultMakeSpan, DefaultOnResponse, TraceLayer};
+use tower_http::trace::{DefaultOnResponse, TraceLayer};
 use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
 use utoipa::{Modify, OpenApi};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
-use crate::ApiState;
 use crate::error::ApiError;
 use crate::routes::ops::OpenApiJson;
 use crate::routes::{artifacts, assets, import, jobs, ops, submit};
 use crate::state::Shared;
+use crate::{ApiState, ServiceHooks};
 
 #[derive(OpenApi)]
 #[openapi(
@@ -87,8 +87,21 @@ fn with_openapi_path_syntax(mut doc: utoipa::openapi::OpenApi) -> utoipa::openap
     doc
 }
 
+/// Serves `router(state)` on `listener` until `shutdown` completes, then finishes the requests
+/// in flight.
+pub async fn serve(
+    listener: tokio::net::TcpListener,
+    state: ApiState,
+    shutdown: impl std::future::Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
+    axum::serve(listener, router(state))
+        .with_graceful_shutdown(shutdown)
+        .await
+}
+
 /// The API's router, ready to serve (`axum::serve(listener, router(state))`) or to call in tests.
 pub fn router(state: ApiState) -> Router {
+    let hooks = state.hooks.clone();
     let shared: Shared = Arc::new(state);
     let (router, doc) = api_routes().split_for_parts();
     let doc = with_openapi_path_syntax(doc);
@@ -101,12 +114,28 @@ pub fn router(state: ApiState) -> Router {
         .layer(middleware::from_fn_with_state(shared.clone(), observe))
         .layer(
             TraceLayer::new_for_http()
-                .make_span_with(DefaultMakeSpan::new().level(tracing::Level::INFO))
+                .make_span_with(move |request: &Request| request_span(hooks.as_ref(), request))
                 .on_response(DefaultOnResponse::new().level(tracing::Level::DEBUG))
                 // 5xx are logged once, where the error becomes a response.
                 .on_failure(()),
         )
         .with_state(shared)
+}
+
+/// The span of one request, named by its route template, joined to the caller's trace by the hooks.
+fn request_span(hooks: &dyn ServiceHooks, request: &Request) -> tracing::Span {
+    let route = request
+        .extensions()
+        .get::<MatchedPath>()
+        .map_or("unmatched", MatchedPath::as_str);
+    let span = tracing::info_span!(
+        "http_request",
+        method = %request.method(),
+        route,
+        path = %request.uri().path(),
+    );
+    hooks.on_request_span(&span, request.headers());
+    span
 }
 
 async fn not_found(request: Request) -> ApiError {

@@ -5,6 +5,7 @@
 mod harness;
 
 mod bad_input;
+mod listener;
 mod ops;
 mod status;
 mod submit;
