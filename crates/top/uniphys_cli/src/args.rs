@@ -32,11 +32,43 @@ pub enum Command {
     /// Evaluate predictions (our record.json) against ground truth with the paper's metrics:
     /// joint type, axis, pivot and limit; motion-coupled groups; part physics; object values.
     Eval(EvalArgs),
+    /// Run the service in one process: HTTP API and workers, on SQLite and a local directory
+    /// unless configured otherwise (`UNIPHYS_DATABASE_URL`, `UNIPHYS_STORAGE_URL`, `UNIPHYS_REDIS_URL`).
+    Serve(crate::service::server_args::ServeArgs),
+    /// Run the HTTP API alone (workers run elsewhere).
+    Api(crate::service::server_args::ApiOnlyArgs),
+    /// Run workers alone: claim stage runs from the queue and run them.
+    Worker(crate::service::server_args::WorkerOnlyArgs),
+    /// Apply the queue database's migrations.
+    Migrate(crate::service::config::ServiceArgs),
+    /// Manage tenants and their API keys.
+    Tenant {
+        /// What to do.
+        #[command(subcommand)]
+        action: TenantAction,
+    },
+    /// Submit asset files (uploads) or a batch manifest to the API; `--watch` follows them.
+    Submit(crate::service::client::SubmitArgs),
+    /// Show the newest jobs, or one asset's stages.
+    Status(crate::service::client::StatusArgs),
     /// Write the example assets (cabinet, laptop, box with lid, mug) as GLB files.
     Examples {
         /// Output directory.
         #[arg(long, default_value = "test_data/examples")]
         out: PathBuf,
+    },
+}
+
+/// Tenant actions.
+#[derive(Debug, Subcommand)]
+pub enum TenantAction {
+    /// Create a tenant (or find it) and print a new API key for it.
+    Create {
+        /// The tenant's name.
+        name: String,
+        /// Where the queue state lives.
+        #[command(flatten)]
+        service: crate::service::config::ServiceArgs,
     },
 }
 

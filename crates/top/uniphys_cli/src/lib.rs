@@ -4,7 +4,9 @@
 //! - `uniphys measure <mesh>`: exact and voxel mass properties per part, as JSON;
 //! - `uniphys points <asset> --out <dir>`: UniPhysGen point clouds (npz) and model frame;
 //! - `uniphys eval --pred <record>... --gt <urdf|record|entity>...`: the paper's metrics;
-//! - `uniphys examples --out <dir>`: write the example assets as GLB.
+//! - `uniphys examples --out <dir>`: write the example assets as GLB;
+//! - `uniphys serve | api | worker | migrate | tenant create`: the job-queue service
+//!   ([`service`]); `uniphys submit | status`: its API client.
 
 mod args;
 mod eval_cmd;
@@ -13,8 +15,9 @@ mod points_cmd;
 mod progress;
 mod report_notes;
 mod run_cmd;
+pub mod service;
 
-pub use args::{Cli, Command, EvalArgs};
+pub use args::{Cli, Command, EvalArgs, TenantAction};
 
 use std::process::ExitCode;
 
@@ -43,6 +46,15 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
         } => measure_cmd::measure(&mesh, voxel_resolution),
         Command::Points(args) => points_cmd::points(&args),
         Command::Eval(args) => eval_cmd::eval(&args),
+        Command::Serve(args) => service::server::serve(&args),
+        Command::Api(args) => service::server::api(&args),
+        Command::Worker(args) => service::server::worker(&args),
+        Command::Migrate(args) => service::migrate(&args),
+        Command::Tenant {
+            action: TenantAction::Create { name, service },
+        } => service::create_tenant(&service, &name),
+        Command::Submit(args) => service::client::submit(&args),
+        Command::Status(args) => service::client::status(&args),
         Command::Examples { out } => {
             let written = uniphys_examples::write_catalogue(&out).map_err(|e| {
                 anyhow::anyhow!(

@@ -12,6 +12,7 @@ static INSERT_TENANT: Sql =
 static INSERT_KEY: Sql = Sql::new(
     "INSERT INTO api_keys (tenant_id, key_sha256, label, created_at_ms) VALUES ($1, $2, $3, {now})",
 );
+static FIND_TENANT: Sql = Sql::new("SELECT id FROM tenants WHERE name = $1");
 static FIND_KEY: Sql =
     Sql::new("SELECT tenant_id FROM api_keys WHERE key_sha256 = $1 AND revoked_at_ms IS NULL");
 static REVOKE_KEY: Sql = Sql::new(
@@ -43,6 +44,13 @@ impl QueueStore {
             .await
             .map_err(|e| unique_to_exists(e, "tenant"))?;
         Ok(TenantId(row.i64("id")?))
+    }
+
+    /// The tenant called `name`, if there is one.
+    pub async fn tenant_by_name(&self, name: &str) -> QueueResult<Option<TenantId>> {
+        let mut session = self.db.read().await?;
+        let row = session.fetch_optional(&FIND_TENANT, args![name]).await?;
+        row.map(|r| r.i64("id").map(TenantId)).transpose()
     }
 
     /// Stores the digest of `api_key` for `tenant`. The caller generates the key (at least 128

@@ -149,6 +149,14 @@ pub async fn api_keys_are_stored_hashed_and_resolve_to_their_tenant(backend: Bac
         .await
         .expect_err("duplicate name");
     assert_eq!(err.kind(), QueueErrorKind::Conflict);
+    assert_eq!(
+        t.store.tenant_by_name("acme").await.expect("lookup"),
+        Some(acme)
+    );
+    assert_eq!(
+        t.store.tenant_by_name("nobody").await.expect("lookup"),
+        None
+    );
 
     let key = "uk_live_0123456789abcdef0123";
     t.store.add_api_key(acme, key, "ci").await.expect("add key");

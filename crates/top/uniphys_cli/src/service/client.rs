@@ -1,0 +1,333 @@
+//! `uniphys submit` and `uniphys status`: a small blocking client of the HTTP API.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::{Context, bail};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use serde_json::Value;
+
+/// Where the API is and who we are.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ClientArgs {
+    /// Base URL of the API.
+    #[arg(long, env = "UNIPHYS_API_URL", default_value = "http://127.0.0.1:8080")]
+    pub api_url: String,
+    /// API key (default: the local key `uniphys serve` wrote in the data directory).
+    #[arg(long, env = "UNIPHYS_API_KEY", hide_env_values = true)]
+    pub api_key: Option<String>,
+    /// Data directory of a local `uniphys serve` (for its API key).
+    #[arg(long, env = "UNIPHYS_DATA_DIR", default_value = "uniphys-data")]
+    pub data_dir: PathBuf,
+}
+
+/// `uniphys submit`.
+#[derive(Debug, clap::Args)]
+pub struct SubmitArgs {
+    /// The API and the key.
+    #[command(flatten)]
+    pub client: ClientArgs,
+    /// Asset files to upload, or one batch manifest (`.json`: `{"items": [{"url": ...}]}`).
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Priority of the jobs (higher runs first).
+    #[arg(long, default_value_t = 0)]
+    pub priority: i32,
+    /// Follow the jobs with progress bars until they finish.
+    #[arg(long)]
+    pub watch: bool,
+}
+
+/// `uniphys status`.
+#[derive(Debug, clap::Args)]
+pub struct StatusArgs {
+    /// The API and the key.
+    #[command(flatten)]
+    pub client: ClientArgs,
+    /// An asset id (`asset_12`); without it, the newest jobs.
+    pub asset: Option<String>,
+    /// Print the API's JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+struct Client {
+    agent: ureq::Agent,
+    base: String,
+    key: String,
+}
+
+impl Client {
+    fn new(args: &ClientArgs) -> anyhow::Result<Self> {
+        let key = match &args.api_key {
+            Some(key) => key.clone(),
+            None => {
+                let file = args.data_dir.join("api-key");
+                std::fs::read_to_string(&file)
+                    .map(|k| k.trim().to_owned())
+                    .with_context(|| {
+                        format!(
+                            "no API key: pass --api-key (or UNIPHYS_API_KEY), or start `uniphys serve` here so {} exists",
+                            file.display()
+                        )
+                    })?
+            }
+        };
+        let agent = ureq::Agent::config_builder()
+            .http_status_as_error(false)
+            .timeout_global(Some(Duration::from_secs(600)))
+            .build()
+            .new_agent();
+        Ok(Self {
+            agent,
+            base: args.api_url.trim_end_matches('/').to_owned(),
+            key,
+        })
+    }
+
+    fn answer(
+        &self,
+        response: Result<ureq::http::Response<ureq::Body>, ureq::Error>,
+        what: &str,
+    ) -> anyhow::Result<Value> {
+        let mut response =
+            response.with_context(|| format!("{what}: cannot reach the API at {}", self.base))?;
+        let status = response.status();
+        let body: Value = response.body_mut().read_json().unwrap_or(Value::Null);
+        if status.is_success() {
+            return Ok(body);
+        }
+        let message = body["error"]["message"]
+            .as_str()
+            .map_or_else(|| format!("HTTP {status}"), str::to_owned);
+        bail!("{what}: {message} (HTTP {})", status.as_u16())
+    }
+
+    fn get(&self, path: &str) -> anyhow::Result<Value> {
+        let response = self
+            .agent
+            .get(format!("{}{path}", self.base))
+            .header("authorization", format!("Bearer {}", self.key))
+            .call();
+        self.answer(response, &format!("GET {path}"))
+    }
+
+    fn upload(&self, file: &Path, priority: i32) -> anyhow::Result<Value> {
+        let name = file
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .with_context(|| format!("{} has no file name", file.display()))?;
+        let mut handle =
+            std::fs::File::open(file).with_context(|| format!("cannot open {}", file.display()))?;
+        let response = self
+            .agent
+            .post(format!("{}/v1/assets", self.base))
+            .query("filename", &name)
+            .query("priority", priority.to_string())
+            .header("authorization", format!("Bearer {}", self.key))
+            .header("content-type", "application/octet-stream")
+            .send(ureq::SendBody::from_reader(&mut handle));
+        self.answer(response, &format!("upload {}", file.display()))
+    }
+
+    fn batch(&self, manifest: &Path) -> anyhow::Result<Value> {
+        let text = std::fs::read_to_string(manifest)
+            .with_context(|| format!("cannot read {}", manifest.display()))?;
+        let body: Value = serde_json::from_str(&text)
+            .with_context(|| format!("{} is not JSON", manifest.display()))?;
+        let response = self
+            .agent
+            .post(format!("{}/v1/batches", self.base))
+            .header("authorization", format!("Bearer {}", self.key))
+            .send_json(body);
+        self.answer(response, &format!("batch {}", manifest.display()))
+    }
+}
+
+/// `uniphys submit`.
+pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
+    let client = Client::new(&args.client)?;
+    let mut submitted: Vec<(String, String)> = Vec::new();
+    let is_manifest = |p: &PathBuf| p.extension().is_some_and(|e| e == "json");
+    if args.inputs.len() == 1 && is_manifest(&args.inputs[0]) {
+        let answer = client.batch(&args.inputs[0])?;
+        for item in answer["items"].as_array().into_iter().flatten() {
+            let index = item["index"].as_u64().unwrap_or_default();
+            match item["submission"].as_object() {
+                Some(s) => {
+                    let asset = s["asset_id"].as_str().unwrap_or_default().to_owned();
+                    println!(
+                        "item {index}: {asset} job {}",
+                        s["job_id"].as_str().unwrap_or_default()
+                    );
+                    submitted.push((format!("item {index}"), asset));
+                }
+                None => println!(
+                    "item {index}: refused: {}",
+                    item["error"]["message"].as_str().unwrap_or("?")
+                ),
+            }
+        }
+    } else {
+        for file in &args.inputs {
+            let answer = client.upload(file, args.priority)?;
+            let asset = answer["asset_id"].as_str().unwrap_or_default().to_owned();
+            let created = if answer["created"] == Value::Bool(true) {
+                "new"
+            } else {
+                "already submitted"
+            };
+            println!(
+                "{}: {asset} job {} ({created})",
+                file.display(),
+                answer["job_id"].as_str().unwrap_or_default()
+            );
+            submitted.push((file.display().to_string(), asset));
+        }
+    }
+    if !args.watch {
+        return Ok(ExitCode::SUCCESS);
+    }
+    watch(&client, &submitted)
+}
+
+/// Whether a job state is final.
+fn finished(state: &str) -> bool {
+    matches!(state, "succeeded" | "dead" | "cancelled")
+}
+
+fn watch(client: &Client, submitted: &[(String, String)]) -> anyhow::Result<ExitCode> {
+    let bars = MultiProgress::new();
+    let style = ProgressStyle::with_template("{prefix:30} [{bar:30}] {pos:>3}% {msg}")
+        .context("progress style")?
+        .progress_chars("=> ");
+    let tracked: Vec<(ProgressBar, &str)> = submitted
+        .iter()
+        .map(|(label, asset)| {
+            let bar = bars.add(ProgressBar::new(100));
+            bar.set_style(style.clone());
+            bar.set_prefix(label.clone());
+            (bar, asset.as_str())
+        })
+        .collect();
+    let mut all_ok = true;
+    let mut open: Vec<usize> = (0..tracked.len()).collect();
+    while !open.is_empty() {
+        let mut still = Vec::new();
+        for i in open {
+            let (bar, asset) = &tracked[i];
+            let detail = client.get(&format!("/v1/assets/{asset}"))?;
+            let job = &detail["job"];
+            let state = job["state"].as_str().unwrap_or("unknown");
+            let stages = job["stages"].as_array().cloned().unwrap_or_default();
+            let done = stages.iter().filter(|s| s["state"] == "succeeded").count();
+            let current = stages
+                .iter()
+                .find(|s| s["state"] == "running" || s["state"] == "ready");
+            let within = current
+                .and_then(|s| s["progress"]["fraction"].as_f64())
+                .unwrap_or(0.0);
+            let total = stages.len().max(1) as f64;
+            bar.set_position((100.0 * (done as f64 + within) / total).round() as u64);
+            if finished(state) {
+                let last_error = stages
+                    .iter()
+                    .rev()
+                    .find_map(|s| s["errors"].as_array().and_then(|e| e.last()))
+                    .and_then(|e| e["message"].as_str());
+                let message = match (state, last_error) {
+                    ("succeeded", _) => "succeeded".to_owned(),
+                    (s, Some(e)) => format!("{s}: {e}"),
+                    (s, None) => s.to_owned(),
+                };
+                all_ok &= state == "succeeded";
+                bar.finish_with_message(message);
+            } else {
+                let message = current
+                    .map(|s| {
+                        let note = s["progress"]["message"].as_str().unwrap_or("");
+                        format!("{} {}", s["name"].as_str().unwrap_or(""), note)
+                    })
+                    .unwrap_or_else(|| state.to_owned());
+                bar.set_message(message);
+                still.push(i);
+            }
+        }
+        open = still;
+        if !open.is_empty() {
+            std::thread::sleep(Duration::from_millis(500));
+        }
+    }
+    Ok(if all_ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// `uniphys status`.
+pub fn status(args: &StatusArgs) -> anyhow::Result<ExitCode> {
+    let client = Client::new(&args.client)?;
+    match &args.asset {
+        Some(asset) => {
+            let detail = client.get(&format!("/v1/assets/{asset}"))?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&detail)?);
+                return Ok(ExitCode::SUCCESS);
+            }
+            let job = &detail["job"];
+            println!(
+                "{asset}  {}  job {} {}",
+                detail["asset"]["source_key"].as_str().unwrap_or(""),
+                job["id"].as_str().unwrap_or("-"),
+                job["state"].as_str().unwrap_or("-")
+            );
+            println!(
+                "{:<12} {:<10} {:>7} {:>10}  note",
+                "stage", "state", "attempt", "secs"
+            );
+            for stage in job["stages"].as_array().into_iter().flatten() {
+                let secs = stage["duration_ms"]
+                    .as_i64()
+                    .map_or("-".to_owned(), |ms| format!("{:.1}", ms as f64 / 1000.0));
+                let running = stage["state"] == "running";
+                let note = stage["errors"]
+                    .as_array()
+                    .and_then(|e| e.last())
+                    .and_then(|e| e["message"].as_str())
+                    .or_else(|| {
+                        running
+                            .then(|| stage["progress"]["message"].as_str())
+                            .flatten()
+                    })
+                    .unwrap_or("");
+                println!(
+                    "{:<12} {:<10} {:>3}/{:<3} {:>10}  {note}",
+                    stage["name"].as_str().unwrap_or(""),
+                    stage["state"].as_str().unwrap_or(""),
+                    stage["attempt"],
+                    stage["max_attempts"],
+                    secs
+                );
+            }
+        }
+        None => {
+            let list = client.get("/v1/assets?limit=20")?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&list)?);
+                return Ok(ExitCode::SUCCESS);
+            }
+            println!("{:<14} {:<14} {:<10}", "asset", "job", "state");
+            for item in list["items"].as_array().into_iter().flatten() {
+                println!(
+                    "{:<14} {:<14} {:<10}",
+                    item["asset_id"].as_str().unwrap_or(""),
+                    item["job_id"].as_str().unwrap_or(""),
+                    item["state"].as_str().unwrap_or("")
+                );
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

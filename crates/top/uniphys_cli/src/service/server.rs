@@ -1,0 +1,169 @@
+//! `uniphys serve`, `uniphys api` and `uniphys worker`: the API and the workers, alone or in
+//! one process, until SIGTERM or Ctrl-C (then: stop claiming, drain, release).
+
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::Context;
+use tokio_util::sync::CancellationToken;
+use tracing::info;
+use uniphys_api::{ApiConfig, ApiState};
+use uniphys_queue::JobSpec;
+use uniphys_telemetry::Metrics;
+use uniphys_worker::{Worker, pipeline_job_spec};
+
+use super::hooks::Hooks;
+use super::runtime::{Opened, open, telemetry};
+use super::server_args::{ApiArgs, ApiOnlyArgs, ServeArgs, WorkerArgs, WorkerOnlyArgs};
+use super::tenants::ensure_local_key;
+
+fn runtime() -> anyhow::Result<tokio::runtime::Runtime> {
+    tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")
+}
+
+/// Cancels the token on SIGTERM or Ctrl-C.
+fn on_signal(shutdown: CancellationToken) {
+    tokio::spawn(async move {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{SignalKind, signal};
+            let mut term = match signal(SignalKind::terminate()) {
+                Ok(s) => s,
+                Err(_) => {
+                    let _ = tokio::signal::ctrl_c().await;
+                    shutdown.cancel();
+                    return;
+                }
+            };
+            tokio::select! {
+                _ = term.recv() => {}
+                _ = tokio::signal::ctrl_c() => {}
+            }
+        }
+        #[cfg(not(unix))]
+        let _ = tokio::signal::ctrl_c().await;
+        info!("shutting down: no new claims; running stages finish or are released");
+        shutdown.cancel();
+    });
+}
+
+fn job_spec(stand_ins: &[String]) -> JobSpec {
+    if stand_ins.is_empty() {
+        pipeline_job_spec()
+    } else {
+        let names: Vec<&str> = stand_ins.iter().map(String::as_str).collect();
+        JobSpec::chain(&names)
+    }
+}
+
+async fn start_worker(
+    opened: &Opened,
+    metrics: &Metrics,
+    args: &WorkerArgs,
+    shutdown: CancellationToken,
+) -> anyhow::Result<tokio::task::JoinHandle<()>> {
+    let registry = args.registry();
+    let config = args.config(&registry)?;
+    let worker = Worker::new(
+        opened.store.clone(),
+        opened.artifacts.clone(),
+        opened.hints.clone(),
+        metrics.clone(),
+        registry,
+        config,
+    )?;
+    // The first line on stdout names this process's worker (operators and the chaos tests read it).
+    println!("worker {}", worker.id());
+    Ok(tokio::spawn(async move {
+        if let Err(e) = worker.run(shutdown).await {
+            tracing::error!(error = %e, "the worker stopped");
+        }
+    }))
+}
+
+async fn serve_api(
+    opened: &Opened,
+    metrics: &Metrics,
+    args: &ApiArgs,
+    redis: bool,
+    spec: JobSpec,
+    shutdown: CancellationToken,
+) -> anyhow::Result<()> {
+    let config = ApiConfig::new(spec)
+        .with_max_upload_bytes(args.max_upload_bytes)
+        .with_max_backlog_per_tenant(args.max_backlog_per_tenant);
+    let mut state = ApiState::new(opened.store.clone(), opened.artifacts.clone(), config);
+    state.hooks = Arc::new(Hooks {
+        hints: opened.hints.clone(),
+        metrics: metrics.clone(),
+        store: opened.store.clone(),
+        redis,
+    });
+    let listener = tokio::net::TcpListener::bind(args.listen)
+        .await
+        .with_context(|| format!("cannot listen on {}", args.listen))?;
+    info!(address = %args.listen, "API listening");
+    eprintln!("API on http://{}", args.listen);
+    axum::serve(listener, uniphys_api::router(state))
+        .with_graceful_shutdown(async move { shutdown.cancelled().await })
+        .await
+        .context("the API server failed")
+}
+
+/// `uniphys serve`.
+pub fn serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
+    runtime()?.block_on(async {
+        let _telemetry = telemetry(&args.service, "uniphys")?;
+        let opened = open(&args.service, true).await?;
+        let key_file = args.service.api_key_file();
+        ensure_local_key(&opened.store, &key_file).await?;
+        eprintln!("local API key in {}", key_file.display());
+        let metrics = Metrics::new();
+        let shutdown = CancellationToken::new();
+        on_signal(shutdown.clone());
+        let worker = start_worker(&opened, &metrics, &args.worker, shutdown.clone()).await?;
+        let redis = args.service.redis_url.is_some();
+        let spec = job_spec(&args.worker.stand_ins);
+        let api = serve_api(&opened, &metrics, &args.api, redis, spec, shutdown.clone()).await;
+        shutdown.cancel();
+        worker.await.context("the worker task failed")?;
+        opened.store.close().await;
+        api.map(|()| ExitCode::SUCCESS)
+    })
+}
+
+/// `uniphys api`.
+pub fn api(args: &ApiOnlyArgs) -> anyhow::Result<ExitCode> {
+    runtime()?.block_on(async {
+        let _telemetry = telemetry(&args.service, "uniphys-api")?;
+        let opened = open(&args.service, false).await?;
+        let metrics = Metrics::new();
+        let shutdown = CancellationToken::new();
+        on_signal(shutdown.clone());
+        let redis = args.service.redis_url.is_some();
+        let spec = job_spec(&args.stand_ins);
+        serve_api(&opened, &metrics, &args.api, redis, spec, shutdown).await?;
+        opened.store.close().await;
+        Ok(ExitCode::SUCCESS)
+    })
+}
+
+/// `uniphys worker`.
+pub fn worker(args: &WorkerOnlyArgs) -> anyhow::Result<ExitCode> {
+    runtime()?.block_on(async {
+        let _telemetry = telemetry(&args.service, "uniphys-worker")?;
+        let opened = open(&args.service, false).await?;
+        let metrics = Metrics::new();
+        let shutdown = CancellationToken::new();
+        on_signal(shutdown.clone());
+        start_worker(&opened, &metrics, &args.worker, shutdown)
+            .await?
+            .await
+            .context("the worker task failed")?;
+        opened.store.close().await;
+        Ok(ExitCode::SUCCESS)
+    })
+}

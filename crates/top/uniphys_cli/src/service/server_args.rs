@@ -1,0 +1,126 @@
+//! Arguments of `serve`, `api` and `worker`.
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use uniphys_worker::{StageRegistry, StageSlots, WorkerConfig};
+
+use super::config::{ServiceArgs, parse_stage_slots, secs};
+
+/// API settings.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ApiArgs {
+    /// Address the API listens on.
+    #[arg(long, env = "UNIPHYS_LISTEN", default_value = "127.0.0.1:8080")]
+    pub listen: SocketAddr,
+    /// Largest accepted upload, in bytes.
+    #[arg(long, env = "UNIPHYS_MAX_UPLOAD_BYTES", default_value_t = uniphys_api::DEFAULT_MAX_UPLOAD_BYTES)]
+    pub max_upload_bytes: u64,
+    /// Unfinished stage runs a tenant may have before submissions get 429.
+    #[arg(long, env = "UNIPHYS_MAX_BACKLOG_PER_TENANT", default_value_t = 10_000)]
+    pub max_backlog_per_tenant: u64,
+}
+
+/// Worker settings.
+#[derive(Debug, Clone, clap::Args)]
+pub struct WorkerArgs {
+    /// Stages to claim and their concurrency, e.g. `ingest=2,convert=1`
+    /// (default: every stage this binary knows, one at a time).
+    #[arg(long, env = "UNIPHYS_STAGES")]
+    pub stages: Option<String>,
+    /// Lease per claimed run, renewed every third of it.
+    #[arg(long, env = "UNIPHYS_LEASE_SECS", default_value_t = 60)]
+    pub lease_secs: u64,
+    /// Longest wait between claims when no doorbell rings, in milliseconds.
+    #[arg(long, env = "UNIPHYS_POLL_MS", default_value_t = 1000)]
+    pub poll_ms: u64,
+    /// How often expired leases of dead workers are recovered, in milliseconds.
+    #[arg(long, env = "UNIPHYS_REAP_MS", default_value_t = 15_000)]
+    pub reap_ms: u64,
+    /// Hard limit on one stage run, in seconds.
+    #[arg(long, env = "UNIPHYS_STAGE_DEADLINE_SECS", default_value_t = 3600)]
+    pub stage_deadline_secs: u64,
+    /// On SIGTERM, how long running stages may finish before their runs are released.
+    #[arg(long, env = "UNIPHYS_SHUTDOWN_GRACE_SECS", default_value_t = 20)]
+    pub shutdown_grace_secs: u64,
+    /// Testing: run deterministic stand-in stages with these names instead of the pipeline.
+    #[arg(long, env = "UNIPHYS_STAND_INS", value_delimiter = ',')]
+    pub stand_ins: Vec<String>,
+    /// Testing: how long each stand-in stage works, in milliseconds.
+    #[arg(long, env = "UNIPHYS_STAND_IN_WORK_MS", default_value_t = 10)]
+    pub stand_in_work_ms: u64,
+}
+
+impl WorkerArgs {
+    /// The stages this process can run.
+    #[must_use]
+    pub fn registry(&self) -> StageRegistry {
+        if self.stand_ins.is_empty() {
+            StageRegistry::pipeline()
+        } else {
+            let names: Vec<&str> = self.stand_ins.iter().map(String::as_str).collect();
+            StageRegistry::stand_ins(&names, Duration::from_millis(self.stand_in_work_ms))
+        }
+    }
+
+    /// The worker configuration.
+    pub fn config(&self, registry: &StageRegistry) -> anyhow::Result<WorkerConfig> {
+        let slots = match &self.stages {
+            Some(text) => parse_stage_slots(text)?,
+            None => registry.names().into_iter().map(|n| (n, 1)).collect(),
+        };
+        let deadline = secs(self.stage_deadline_secs, "the stage deadline")?;
+        Ok(WorkerConfig {
+            stages: slots
+                .into_iter()
+                .map(|(name, n)| StageSlots {
+                    deadline,
+                    ..StageSlots::new(name, n)
+                })
+                .collect(),
+            lease: secs(self.lease_secs, "the lease")?,
+            poll_interval: Duration::from_millis(self.poll_ms.max(1)),
+            reap_interval: Duration::from_millis(self.reap_ms.max(1)),
+            shutdown_grace: Duration::from_secs(self.shutdown_grace_secs),
+        })
+    }
+}
+
+/// `uniphys serve`: API and workers in one process.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ServeArgs {
+    /// Where state, objects and hints live.
+    #[command(flatten)]
+    pub service: ServiceArgs,
+    /// API settings.
+    #[command(flatten)]
+    pub api: ApiArgs,
+    /// Worker settings.
+    #[command(flatten)]
+    pub worker: WorkerArgs,
+}
+
+/// `uniphys api`: the API alone.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ApiOnlyArgs {
+    /// Where state, objects and hints live.
+    #[command(flatten)]
+    pub service: ServiceArgs,
+    /// API settings.
+    #[command(flatten)]
+    pub api: ApiArgs,
+    /// Stages submissions get (testing with stand-ins; default: the pipeline's graph).
+    #[arg(long, env = "UNIPHYS_STAND_INS", value_delimiter = ',')]
+    pub stand_ins: Vec<String>,
+}
+
+/// `uniphys worker`: workers alone.
+#[derive(Debug, Clone, clap::Args)]
+pub struct WorkerOnlyArgs {
+    /// Where state, objects and hints live.
+    #[command(flatten)]
+    pub service: ServiceArgs,
+    /// Worker settings.
+    #[command(flatten)]
+    pub worker: WorkerArgs,
+}
