@@ -8,6 +8,20 @@
 //! error answers `{"error": {"code", "message"}}` with one status per [`ApiError`] variant;
 //! 429 (backlog cap) and 503 (database or object store unavailable) carry `Retry-After`.
 //!
+//! | route | what |
+//! |---|---|
+//! | `POST /v1/assets?filename=&priority=` | upload (body = file bytes, streamed, size-capped): 201 new, 200 same content again |
+//! | `POST /v1/assets/by-url` | import an object under the tenant's prefixes (`incoming/t{n}/`, `sources/t{n}/`) |
+//! | `POST /v1/batches` | `{"items": [{url, filename?, priority?}]}`: all validated first, then per-item results |
+//! | `GET /v1/assets?state=&asset=&before=&limit=` | jobs newest first, keyset pages (`next`) |
+//! | `GET /v1/assets/{asset_id}` | asset, latest job, each stage (state, attempts, errors, timings, cost, progress) |
+//! | `GET /v1/assets/{asset_id}/artifacts[/{stage}/{name}]` | artifacts of succeeded stages; streamed download |
+//! | `GET /v1/jobs/{job_id}[/events]`, `POST /v1/jobs/{job_id}/cancel`, `.../retry` | job status, history, control |
+//! | `GET /v1/stats` | per stage: depth, running, failed, throughput, oldest waiting age |
+//! | `GET /healthz`, `/readyz`, `/metrics`, `/openapi.json` | operations (no key) |
+//!
+//! Ids are answered as `asset_12`, `job_7`; paths accept `asset_12` or `12`.
+//!
 //! - `config.rs`: [`ApiConfig`], limits and the stage graph of submissions.
 //! - `hooks.rs`: [`ServiceHooks`], [`NoHooks`].
 //! - `state.rs`: [`ApiState`].
