@@ -7,8 +7,9 @@ use std::future::Future;
 use std::pin::Pin;
 use std::time::Duration;
 
-use axum::http::HeaderMap;
+use axum::http::{HeaderMap, Method};
 use serde_json::Value;
+use tracing::Span;
 use uniphys_queue::JobId;
 
 /// A boxed, sendable future (what the hooks return, so the trait stays object-safe).
@@ -67,10 +68,12 @@ pub trait ServiceHooks: Send + Sync + 'static {
         Box::pin(async { Vec::new() })
     }
 
-    /// A request's span was just created (before its handler runs): join it to the caller's
-    /// trace, e.g. from the W3C `traceparent` header.
-    fn on_request_span(&self, span: &tracing::Span, headers: &HeaderMap) {
-        let _ = (span, headers);
+    /// The span of one request (method, route template, headers), e.g. one that joins the
+    /// caller's trace from its `traceparent` header; `None` for the API's own `http_request`
+    /// span. The API records `http.response.status_code` on it when the response is known.
+    fn request_span(&self, method: &Method, route: &str, headers: &HeaderMap) -> Option<Span> {
+        let _ = (method, route, headers);
+        None
     }
 
     /// One HTTP request finished: its route template (`/v1/jobs/{job_id}`), method, status and

@@ -2,13 +2,13 @@
 //! route by construction), request tracing, request metrics through the hooks, and a JSON 404.
 
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use axum::extract::{MatchedPath, Request, State};
 use axum::middleware::{self, Next};
 use axum::response::Response;
 use axum::{Extension, Router};
-use tower_http::trace::{DefaultOnResponse, TraceLayer};
+use tower_http::trace::TraceLayer;
 use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
 use utoipa::{Modify, OpenApi};
 use utoipa_axum::router::OpenApiRouter;
@@ -115,27 +115,34 @@ pub fn router(state: ApiState) -> Router {
         .layer(
             TraceLayer::new_for_http()
                 .make_span_with(move |request: &Request| request_span(hooks.as_ref(), request))
-                .on_response(DefaultOnResponse::new().level(tracing::Level::DEBUG))
+                .on_response(record_status)
                 // 5xx are logged once, where the error becomes a response.
                 .on_failure(()),
         )
         .with_state(shared)
 }
 
-/// The span of one request, named by its route template, joined to the caller's trace by the hooks.
+/// The span of one request: the hooks' (which may join the caller's trace), else the API's own.
 fn request_span(hooks: &dyn ServiceHooks, request: &Request) -> tracing::Span {
     let route = request
         .extensions()
         .get::<MatchedPath>()
         .map_or("unmatched", MatchedPath::as_str);
-    let span = tracing::info_span!(
-        "http_request",
-        method = %request.method(),
-        route,
-        path = %request.uri().path(),
-    );
-    hooks.on_request_span(&span, request.headers());
-    span
+    hooks
+        .request_span(request.method(), route, request.headers())
+        .unwrap_or_else(|| {
+            tracing::info_span!(
+                "http_request",
+                http.request.method = %request.method(),
+                http.route = route,
+                http.response.status_code = tracing::field::Empty,
+            )
+        })
+}
+
+fn record_status(response: &Response, _latency: Duration, span: &tracing::Span) {
+    span.record("http.response.status_code", response.status().as_u16());
+    tracing::debug!(status = response.status().as_u16(), "response");
 }
 
 async fn not_found(request: Request) -> ApiError {

@@ -277,6 +277,8 @@ pub struct RecordingHooks {
     pub doorbells: Mutex<Vec<Vec<String>>>,
     /// `(method, route, status)` of each request.
     pub requests: Mutex<Vec<(String, String, u16)>>,
+    /// `(method, route, traceparent header)` of each request span asked for.
+    pub spans: Mutex<Vec<(String, String, Option<String>)>>,
     /// Whether the required `redis` check fails.
     pub redis_down: std::sync::atomic::AtomicBool,
 }
@@ -319,6 +321,23 @@ impl ServiceHooks for RecordingHooks {
                 required: true,
             }]
         })
+    }
+
+    fn request_span(
+        &self,
+        method: &axum::http::Method,
+        route: &str,
+        headers: &HeaderMap,
+    ) -> Option<tracing::Span> {
+        let traceparent = headers
+            .get("traceparent")
+            .and_then(|v| v.to_str().ok())
+            .map(str::to_owned);
+        self.spans
+            .lock()
+            .expect("lock")
+            .push((method.to_string(), route.to_owned(), traceparent));
+        None
     }
 
     fn observe_request(&self, method: &str, route: &str, status: u16, _elapsed: Duration) {

@@ -98,6 +98,29 @@ pub async fn health_readiness_and_metrics_answer(backend: Backend) {
         "text/plain; version=0.0.4"
     );
     assert_eq!(metrics.body.as_ref(), b"uniphys_up 1\n");
+    let traced = app
+        .send(
+            Method::GET,
+            "/healthz",
+            None,
+            &[(
+                "traceparent",
+                "00-0af7651916cd43dd8448eb211c80319c-b7ad6b7169203331-01",
+            )],
+            Body::empty(),
+        )
+        .await;
+    assert_eq!(traced.status, StatusCode::OK);
+    let spans = app.hooks.spans.lock().expect("lock").clone();
+    assert_eq!(
+        spans.last(),
+        Some(&(
+            "GET".to_owned(),
+            "/healthz".to_owned(),
+            Some("00-0af7651916cd43dd8448eb211c80319c-b7ad6b7169203331-01".to_owned())
+        )),
+        "the hooks make each request's span from its route and headers"
+    );
     let requests = app.hooks.requests.lock().expect("lock").clone();
     assert!(
         requests.contains(&("GET".into(), "/readyz".into(), 503)),
