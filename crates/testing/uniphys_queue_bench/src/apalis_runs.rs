@@ -1,0 +1,288 @@
+//! The apalis side: apalis 1.0 workers (`WorkerBuilder` … `.build(noop)`) on apalis-postgres 1.0
+//! storages, one worker per concurrent worker, each fetching one task at a time
+//! (`Config::batch_size(1)`, the counterpart of `claim` with limit 1), with apalis's defaults
+//! otherwise (tasks locked while they run, results persisted). apalis-postgres keeps its tables in
+//! its own `apalis` schema (created by `PostgresStorage::setup`); each measurement uses a fresh
+//! queue name and deletes its rows afterwards.
+
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, ensure};
+use apalis::prelude::{
+    BackendExt as _, BoxDynError, Data, TaskSink as _, WorkerBuilder, WorkerContext,
+};
+use apalis_postgres::{Config, PostgresStorage};
+use sqlx::PgPool;
+use sqlx::postgres::PgPoolOptions;
+use tokio::task::JoinHandle;
+
+use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
+use crate::rearming_poll::RearmingInterval;
+use crate::uniphys_runs::jittered;
+
+/// How long a measurement may wait for its jobs before it fails.
+const PATIENCE: Duration = Duration::from_secs(120);
+/// How long a stopped worker may take to return.
+const STOP_PATIENCE: Duration = Duration::from_secs(15);
+
+/// Start instants of the tasks the workers ran, shared with the handler.
+#[derive(Debug)]
+struct Recorder {
+    started: Mutex<Vec<(u64, Instant)>>,
+    expected: usize,
+    all_started: tokio::sync::Notify,
+}
+
+impl Recorder {
+    fn new(expected: u32) -> Arc<Self> {
+        Arc::new(Self {
+            started: Mutex::new(Vec::new()),
+            expected: usize::try_from(expected).unwrap_or(usize::MAX),
+            all_started: tokio::sync::Notify::new(),
+        })
+    }
+
+    fn record(&self, key: u64, at: Instant) -> Result<(), BoxDynError> {
+        let mut started = self.started.lock().map_err(|_| "recorder poisoned")?;
+        started.push((key, at));
+        if started.len() >= self.expected {
+            self.all_started.notify_one();
+        }
+        Ok(())
+    }
+
+    async fn wait_all(&self) -> anyhow::Result<()> {
+        tokio::time::timeout(PATIENCE, self.all_started.notified())
+            .await
+            .with_context(|| format!("apalis: jobs not all started within {PATIENCE:?}"))
+    }
+
+    fn take(&self) -> anyhow::Result<Vec<(u64, Instant)>> {
+        let mut started = self
+            .started
+            .lock()
+            .map_err(|_| anyhow::anyhow!("poisoned"))?;
+        Ok(std::mem::take(&mut *started))
+    }
+}
+
+/// The task handler: records when it started, does nothing else.
+async fn noop(key: u64, recorder: Data<Arc<Recorder>>) -> Result<(), BoxDynError> {
+    recorder.record(key, Instant::now())
+}
+
+/// A pool, the apalis tables, and a queue name nobody else uses.
+struct Scratch {
+    pool: PgPool,
+    queue: String,
+}
+
+impl Scratch {
+    async fn create(url: &str, pool_size: u32) -> anyhow::Result<Self> {
+        static NEXT: AtomicU32 = AtomicU32::new(0);
+        let pool = PgPoolOptions::new()
+            .max_connections(pool_size)
+            .connect(url)
+            .await?;
+        PostgresStorage::<()>::setup(&pool).await?;
+        let queue = format!(
+            "queue-bench-{}-{}",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::Relaxed)
+        );
+        Ok(Self { pool, queue })
+    }
+
+    fn storage(&self) -> PostgresStorage<u64> {
+        PostgresStorage::new(&self.pool)
+            .with_config(Config::default().queue(&self.queue).batch_size(1))
+    }
+
+    /// Starts `workers` workers running [`noop`]; stop them through the returned contexts.
+    fn spawn_workers(
+        &self,
+        workers: u32,
+        wakeup: Wakeup,
+        poll: Duration,
+        recorder: &Arc<Recorder>,
+    ) -> (Vec<WorkerContext>, Vec<JoinHandle<anyhow::Result<()>>>) {
+        let mut contexts = Vec::new();
+        let mut handles = Vec::new();
+        for w in 0..workers {
+            let context = WorkerContext::new(&format!("{}-w{w}", self.queue));
+            let builder = WorkerBuilder::new(&context);
+            let handle = match wakeup {
+                Wakeup::Poll => {
+                    let worker = builder
+                        .backend(self.storage().poll_with_interval(poll))
+                        .data(Arc::clone(recorder))
+                        .build(noop);
+                    tokio::spawn(async move { Ok(worker.run().await?) })
+                }
+                Wakeup::PollRearmed => {
+                    let worker = builder
+                        .backend(
+                            self.storage()
+                                .poll_with_strategy(RearmingInterval::new(poll)),
+                        )
+                        .data(Arc::clone(recorder))
+                        .build(noop);
+                    tokio::spawn(async move { Ok(worker.run().await?) })
+                }
+                Wakeup::Notify => {
+                    let worker = builder
+                        .backend(self.storage().with_pubsub())
+                        .data(Arc::clone(recorder))
+                        .build(noop);
+                    tokio::spawn(async move { Ok(worker.run().await?) })
+                }
+            };
+            contexts.push(context);
+            handles.push(handle);
+        }
+        (contexts, handles)
+    }
+
+    /// Fails unless all `jobs` tasks of the queue are `Done`.
+    async fn check_all_done(&self, jobs: u32) -> anyhow::Result<()> {
+        let (done, total): (i64, i64) = sqlx::query_as(
+            "SELECT count(*) FILTER (WHERE status = 'Done'), count(*)
+             FROM apalis.jobs WHERE job_type = $1",
+        )
+        .bind(&self.queue)
+        .fetch_one(&self.pool)
+        .await?;
+        ensure!(
+            done == i64::from(jobs) && total == i64::from(jobs),
+            "apalis: {done} of {total} tasks done, expected {jobs}"
+        );
+        Ok(())
+    }
+
+    async fn delete_rows(self) -> anyhow::Result<()> {
+        sqlx::query("DELETE FROM apalis.jobs WHERE job_type = $1")
+            .bind(&self.queue)
+            .execute(&self.pool)
+            .await?;
+        sqlx::query("DELETE FROM apalis.workers WHERE worker_type = $1")
+            .bind(&self.queue)
+            .execute(&self.pool)
+            .await?;
+        self.pool.close().await;
+        Ok(())
+    }
+}
+
+/// A progress line on stderr (the tables go to stdout).
+fn progress(queue: &str, what: &str) {
+    eprintln!("queue-bench: apalis queue {queue}: {what}");
+}
+
+/// Stops the workers and waits until each has flushed its acknowledgements and returned; a worker
+/// still running after [`STOP_PATIENCE`] is aborted. Returns how many were aborted.
+async fn stop(
+    contexts: &[WorkerContext],
+    handles: Vec<JoinHandle<anyhow::Result<()>>>,
+) -> anyhow::Result<u32> {
+    for context in contexts {
+        context.stop()?;
+    }
+    let mut aborted = 0;
+    for mut handle in handles {
+        match tokio::time::timeout(STOP_PATIENCE, &mut handle).await {
+            Ok(joined) => joined??,
+            Err(_) => {
+                handle.abort();
+                aborted += 1;
+            }
+        }
+    }
+    Ok(aborted)
+}
+
+/// Pre-enqueues `jobs` tasks, then times `workers` workers running them all (until every worker
+/// flushed its acknowledgements and returned).
+pub(crate) async fn throughput(
+    url: &str,
+    workers: u32,
+    jobs: u32,
+    wakeup: Wakeup,
+    poll: Duration,
+) -> anyhow::Result<ThroughputRun> {
+    let scratch = Scratch::create(url, workers + 2).await?;
+    scratch
+        .storage()
+        .push_bulk((0..u64::from(jobs)).collect())
+        .await?;
+    let recorder = Recorder::new(jobs);
+
+    let started = Instant::now();
+    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder);
+    recorder.wait_all().await?;
+    let aborted = stop(&contexts, handles).await?;
+    let elapsed = started.elapsed();
+    ensure!(
+        aborted == 0,
+        "apalis: {aborted} workers did not stop within {STOP_PATIENCE:?}"
+    );
+
+    scratch.check_all_done(jobs).await?;
+    let executed = recorder.take()?.into_iter().map(|(key, _)| key).collect();
+    scratch.delete_rows().await?;
+    Ok(ThroughputRun {
+        system: System::Apalis,
+        workers,
+        elapsed,
+        executed,
+    })
+}
+
+/// Pushes `jobs` tasks one at a time, `gap` apart on average, to `workers` idle workers woken by
+/// `wakeup`; measures from calling push until the handler started.
+pub(crate) async fn latency(
+    url: &str,
+    workers: u32,
+    jobs: u32,
+    gap: Duration,
+    wakeup: Wakeup,
+    poll: Duration,
+) -> anyhow::Result<LatencyRun> {
+    let scratch = Scratch::create(url, workers + 2).await?;
+    let recorder = Recorder::new(jobs);
+    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder);
+
+    tokio::time::sleep(WARM_UP).await;
+    let mut sink = scratch.storage();
+    let mut submitted = Vec::new();
+    let mut submit_ms = Vec::new();
+    for key in 0..u64::from(jobs) {
+        tokio::time::sleep(jittered(gap, key)).await;
+        let sent = Instant::now();
+        sink.push(key).await?;
+        submit_ms.push(sent.elapsed().as_secs_f64() * 1e3);
+        submitted.push(sent);
+    }
+    recorder.wait_all().await?;
+    progress(&scratch.queue, "all started; stopping the workers");
+    let stuck_workers = stop(&contexts, handles).await?;
+    if stuck_workers > 0 {
+        progress(
+            &scratch.queue,
+            &format!("{stuck_workers} workers did not stop within {STOP_PATIENCE:?}; aborted"),
+        );
+    }
+
+    scratch.check_all_done(jobs).await?;
+    let started = recorder.take()?;
+    scratch.delete_rows().await?;
+    Ok(LatencyRun {
+        system: System::Apalis,
+        wakeup,
+        enqueue_to_start_ms: latencies_ms(&submitted, &started)?,
+        submit_ms,
+        executed: started.into_iter().map(|(key, _)| key).collect(),
+        stuck_workers,
+    })
+}

@@ -1,0 +1,269 @@
+//! The UniPhys queue's side: workers are tokio tasks looping `claim` (limit 1) → `complete`
+//! (empty manifest) on one-stage `noop` jobs, each job submitted with its own asset.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, ensure};
+use serde_json::json;
+use sqlx::Connection as _;
+use uniphys_queue::{
+    JobId, JobSpec, NewAsset, QueueStore, StageCost, StoreConfig, TenantId, WorkerId,
+};
+
+use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
+
+const STAGE: &str = "noop";
+const LEASE: Duration = Duration::from_secs(60);
+/// Concurrent submitters while pre-enqueueing a throughput backlog (not timed).
+const SUBMITTERS: u64 = 8;
+
+/// A store in a fresh schema of its own, dropped by [`Scratch::drop_schema`].
+struct Scratch {
+    url: String,
+    schema: String,
+    store: QueueStore,
+    tenant: TenantId,
+}
+
+impl Scratch {
+    async fn create(url: &str, pool_size: u32) -> anyhow::Result<Self> {
+        static NEXT: AtomicU32 = AtomicU32::new(0);
+        let schema = format!(
+            "queue_bench_{}_{}",
+            std::process::id(),
+            NEXT.fetch_add(1, Ordering::Relaxed)
+        );
+        let mut admin = sqlx::PgConnection::connect(url).await?;
+        sqlx::raw_sql(sqlx::AssertSqlSafe(format!("CREATE SCHEMA {schema}")))
+            .execute(&mut admin)
+            .await?;
+        admin.close().await?;
+        let config = StoreConfig::new(url)
+            .with_schema(schema.clone())
+            .with_max_connections(pool_size);
+        let store = QueueStore::connect(&config).await?;
+        store.migrate().await?;
+        let tenant = store.create_tenant("queue-bench").await?;
+        Ok(Self {
+            url: url.to_owned(),
+            schema,
+            store,
+            tenant,
+        })
+    }
+
+    async fn submit(&self, key: u64) -> anyhow::Result<JobId> {
+        let asset = NewAsset {
+            content_digest: format!("sha256:{key:064x}"),
+            source_uri: format!("queue-bench/{key}"),
+            size_bytes: 1,
+        };
+        let submission = self
+            .store
+            .submit(self.tenant, &asset, &JobSpec::chain(&[STAGE]))
+            .await?;
+        ensure!(submission.job_created, "job {key} was not created");
+        Ok(submission.job_id)
+    }
+
+    /// Fails unless all `jobs` stage runs succeeded after exactly one claim each.
+    async fn check_all_succeeded_once(&self, jobs: u32) -> anyhow::Result<()> {
+        let mut conn = sqlx::PgConnection::connect(&self.url).await?;
+        let (once, total): (i64, i64) = sqlx::query_as(sqlx::AssertSqlSafe(format!(
+            "SELECT count(*) FILTER (WHERE state = 'succeeded' AND attempt = 1), count(*)
+             FROM {}.stage_runs",
+            self.schema
+        )))
+        .fetch_one(&mut conn)
+        .await?;
+        ensure!(
+            once == i64::from(jobs) && total == i64::from(jobs),
+            "uniphys: {once} of {total} stage runs succeeded on their first claim, expected {jobs}"
+        );
+        Ok(())
+    }
+
+    async fn drop_schema(self) -> anyhow::Result<()> {
+        self.store.close().await;
+        let mut admin = sqlx::PgConnection::connect(&self.url).await?;
+        sqlx::raw_sql(sqlx::AssertSqlSafe(format!(
+            "DROP SCHEMA {} CASCADE",
+            self.schema
+        )))
+        .execute(&mut admin)
+        .await?;
+        Ok(())
+    }
+}
+
+/// Pre-enqueues `jobs` jobs, then times `workers` workers running them all.
+pub(crate) async fn throughput(
+    url: &str,
+    workers: u32,
+    jobs: u32,
+) -> anyhow::Result<ThroughputRun> {
+    let scratch = Arc::new(Scratch::create(url, workers.max(SUBMITTERS as u32) + 2).await?);
+    let mut submitters = Vec::new();
+    for first in 0..SUBMITTERS {
+        let scratch = Arc::clone(&scratch);
+        submitters.push(tokio::spawn(async move {
+            let mut ids = Vec::new();
+            for key in (first..u64::from(jobs)).step_by(SUBMITTERS as usize) {
+                ids.push((scratch.submit(key).await?, key));
+            }
+            anyhow::Ok(ids)
+        }));
+    }
+    let mut key_of: HashMap<JobId, u64> = HashMap::new();
+    for task in submitters {
+        key_of.extend(task.await??);
+    }
+
+    let started = Instant::now();
+    let mut tasks = Vec::new();
+    for w in 0..workers {
+        let store = scratch.store.clone();
+        tasks.push(tokio::spawn(async move {
+            let me = WorkerId(format!("queue-bench-{w}"));
+            let mut ran = Vec::new();
+            loop {
+                let claimed = store.claim(&me, &[STAGE], LEASE, 1).await?;
+                // The backlog was enqueued before the workers started: nothing ready means done
+                // (a run another claim holds is skipped, and that claimer completes it).
+                let Some(run) = claimed.first() else {
+                    return anyhow::Ok(ran);
+                };
+                store
+                    .complete(&run.lease, &json!({}), &StageCost::default())
+                    .await?;
+                ran.push(run.job_id);
+            }
+        }));
+    }
+    let mut ran = Vec::new();
+    for task in tasks {
+        ran.extend(task.await??);
+    }
+    let elapsed = started.elapsed();
+
+    scratch.check_all_succeeded_once(jobs).await?;
+    let executed = keys(&ran, &key_of)?;
+    Arc::into_inner(scratch)
+        .context("scratch store still shared")?
+        .drop_schema()
+        .await?;
+    Ok(ThroughputRun {
+        system: System::Uniphys,
+        workers,
+        elapsed,
+        executed,
+    })
+}
+
+/// Submits `jobs` jobs one at a time, `gap` apart on average, to `workers` idle polling workers;
+/// measures from calling submit until `claim` returned the job.
+pub(crate) async fn latency(
+    url: &str,
+    workers: u32,
+    jobs: u32,
+    gap: Duration,
+    poll: Duration,
+) -> anyhow::Result<LatencyRun> {
+    let scratch = Scratch::create(url, workers + 2).await?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let started: Arc<Mutex<Vec<(JobId, Instant)>>> = Arc::default();
+    let mut tasks = Vec::new();
+    for w in 0..workers {
+        let store = scratch.store.clone();
+        let stop = Arc::clone(&stop);
+        let started = Arc::clone(&started);
+        tasks.push(tokio::spawn(async move {
+            let me = WorkerId(format!("queue-bench-{w}"));
+            while !stop.load(Ordering::Relaxed) {
+                let claimed = store.claim(&me, &[STAGE], LEASE, 1).await?;
+                let at = Instant::now();
+                let Some(run) = claimed.first() else {
+                    tokio::time::sleep(poll).await;
+                    continue;
+                };
+                started
+                    .lock()
+                    .map_err(|_| anyhow::anyhow!("poisoned"))?
+                    .push((run.job_id, at));
+                store
+                    .complete(&run.lease, &json!({}), &StageCost::default())
+                    .await?;
+            }
+            anyhow::Ok(())
+        }));
+    }
+
+    tokio::time::sleep(WARM_UP).await;
+    let mut submitted = Vec::new();
+    let mut submit_ms = Vec::new();
+    let mut key_of: HashMap<JobId, u64> = HashMap::new();
+    for key in 0..u64::from(jobs) {
+        tokio::time::sleep(jittered(gap, key)).await;
+        let sent = Instant::now();
+        let job = scratch.submit(key).await?;
+        submit_ms.push(sent.elapsed().as_secs_f64() * 1e3);
+        submitted.push(sent);
+        key_of.insert(job, key);
+    }
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while started
+        .lock()
+        .map_err(|_| anyhow::anyhow!("poisoned"))?
+        .len()
+        < key_of.len()
+    {
+        ensure!(
+            Instant::now() < deadline,
+            "uniphys: jobs not started within 30 s"
+        );
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    stop.store(true, Ordering::Relaxed);
+    for task in tasks {
+        task.await??;
+    }
+
+    scratch.check_all_succeeded_once(jobs).await?;
+    let started = std::mem::take(&mut *started.lock().map_err(|_| anyhow::anyhow!("poisoned"))?);
+    let ids: Vec<JobId> = started.iter().map(|(id, _)| *id).collect();
+    let executed = keys(&ids, &key_of)?;
+    let by_key: Vec<(u64, Instant)> = executed
+        .iter()
+        .zip(&started)
+        .map(|(key, (_, at))| (*key, *at))
+        .collect();
+    scratch.drop_schema().await?;
+    Ok(LatencyRun {
+        system: System::Uniphys,
+        wakeup: Wakeup::Poll,
+        enqueue_to_start_ms: latencies_ms(&submitted, &by_key)?,
+        submit_ms,
+        executed,
+        stuck_workers: 0,
+    })
+}
+
+/// `gap` ± 5 ms, varying with `key` (deterministic, so runs are comparable).
+pub(crate) fn jittered(gap: Duration, key: u64) -> Duration {
+    let offset_ms = (key * 7) % 11;
+    (gap + Duration::from_millis(offset_ms)).saturating_sub(Duration::from_millis(5))
+}
+
+fn keys(ran: &[JobId], key_of: &HashMap<JobId, u64>) -> anyhow::Result<Vec<u64>> {
+    ran.iter()
+        .map(|job| {
+            key_of
+                .get(job)
+                .copied()
+                .with_context(|| format!("uniphys: claimed unknown job {job:?}"))
+        })
+        .collect()
+}
