@@ -18,6 +18,14 @@ pub struct ServiceArgs {
     /// (default: `sqlite:<data-dir>/queue.db`).
     #[arg(long, env = "UNIPHYS_DATABASE_URL")]
     pub database_url: Option<String>,
+    /// How long an operation waits for a database connection before failing (the API then
+    /// answers 503 with Retry-After).
+    #[arg(
+        long,
+        env = "UNIPHYS_DATABASE_ACQUIRE_TIMEOUT_SECS",
+        default_value_t = 5
+    )]
+    pub database_acquire_timeout_secs: u64,
     /// Postgres schema holding the queue tables (default: the role's search path).
     #[arg(long, env = "UNIPHYS_DATABASE_SCHEMA")]
     pub database_schema: Option<String>,
@@ -74,6 +82,7 @@ impl ServiceArgs {
         let mut config = StoreConfig::new(url)
             .with_max_connections(self.database_pool)
             .with_retry(retry);
+        config.acquire_timeout = Duration::from_secs(self.database_acquire_timeout_secs.max(1));
         if let Some(schema) = &self.database_schema {
             config = config.with_schema(schema.clone());
         }

@@ -58,10 +58,19 @@ impl ServiceHooks for Hooks {
                 .refresh_queue_gauges(&self.store, Duration::from_secs(300))
                 .await;
             Some(MetricsText {
-                content_type: "application/openmetrics-text; version=1.0.0; charset=utf-8".into(),
+                content_type: Metrics::CONTENT_TYPE.into(),
                 body: self.metrics.encode(),
             })
         })
+    }
+
+    fn request_span(
+        &self,
+        method: &axum::http::Method,
+        route: &str,
+        headers: &axum::http::HeaderMap,
+    ) -> Option<tracing::Span> {
+        Some(uniphys_telemetry::http_request_span(method, route, headers))
     }
 
     fn current_traceparent(&self) -> Option<String> {

@@ -151,6 +151,38 @@ pub fn api(args: &ApiOnlyArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
+/// Serves `GET /metrics` of a worker process (stage durations, outcomes, claim latency).
+async fn serve_worker_metrics(
+    address: std::net::SocketAddr,
+    metrics: Metrics,
+    shutdown: CancellationToken,
+) -> anyhow::Result<()> {
+    let listener = tokio::net::TcpListener::bind(address)
+        .await
+        .with_context(|| format!("cannot listen on {address} for metrics"))?;
+    let router = axum::Router::new().route(
+        "/metrics",
+        axum::routing::get(move || {
+            let metrics = metrics.clone();
+            async move {
+                (
+                    [(axum::http::header::CONTENT_TYPE, Metrics::CONTENT_TYPE)],
+                    metrics.encode(),
+                )
+            }
+        }),
+    );
+    tokio::spawn(async move {
+        let served = axum::serve(listener, router)
+            .with_graceful_shutdown(async move { shutdown.cancelled().await })
+            .await;
+        if let Err(e) = served {
+            tracing::error!(error = %e, "the metrics server stopped");
+        }
+    });
+    Ok(())
+}
+
 /// `uniphys worker`.
 pub fn worker(args: &WorkerOnlyArgs) -> anyhow::Result<ExitCode> {
     runtime()?.block_on(async {
@@ -159,6 +191,9 @@ pub fn worker(args: &WorkerOnlyArgs) -> anyhow::Result<ExitCode> {
         let metrics = Metrics::new();
         let shutdown = CancellationToken::new();
         on_signal(shutdown.clone());
+        if let Some(address) = args.metrics_listen {
+            serve_worker_metrics(address, metrics.clone(), shutdown.clone()).await?;
+        }
         start_worker(&opened, &metrics, &args.worker, shutdown)
             .await?
             .await

@@ -117,6 +117,9 @@ pub struct ApiOnlyArgs {
 /// `uniphys worker`: workers alone.
 #[derive(Debug, Clone, clap::Args)]
 pub struct WorkerOnlyArgs {
+    /// Serve Prometheus `/metrics` of this worker on this address (default: not served).
+    #[arg(long, env = "UNIPHYS_METRICS_LISTEN")]
+    pub metrics_listen: Option<SocketAddr>,
     /// Where state, objects and hints live.
     #[command(flatten)]
     pub service: ServiceArgs,
