@@ -14,8 +14,8 @@ use apalis::prelude::{
     BackendExt as _, BoxDynError, Data, TaskSink as _, WorkerBuilder, WorkerContext,
 };
 use apalis_postgres::{Config, PostgresStorage};
-use sqlx::PgPool;
 use sqlx::postgres::PgPoolOptions;
+use sqlx::{Connection as _, PgPool};
 use tokio::task::JoinHandle;
 
 use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
@@ -75,6 +75,7 @@ async fn noop(key: u64, recorder: Data<Arc<Recorder>>) -> Result<(), BoxDynError
 
 /// A pool, the apalis tables, and a queue name nobody else uses.
 struct Scratch {
+    url: String,
     pool: PgPool,
     queue: String,
 }
@@ -92,7 +93,11 @@ impl Scratch {
             std::process::id(),
             NEXT.fetch_add(1, Ordering::Relaxed)
         );
-        Ok(Self { pool, queue })
+        Ok(Self {
+            url: url.to_owned(),
+            pool,
+            queue,
+        })
     }
 
     fn storage(&self) -> PostgresStorage<u64> {
@@ -145,32 +150,36 @@ impl Scratch {
         (contexts, handles)
     }
 
-    /// Fails unless all `jobs` tasks of the queue are `Done`.
-    async fn check_all_done(&self, jobs: u32) -> anyhow::Result<()> {
+    /// Closes the pool, then on a fresh connection fails unless all `jobs` tasks of the queue are
+    /// `Done`, and deletes the queue's rows.
+    ///
+    /// The pool is closed first: a worker stopped while a fetch was in flight drops that fetch,
+    /// and its connection can go back to the pool inside an open transaction; a statement run on
+    /// it later would join that transaction and never commit (and the delete would wait forever
+    /// on the locks). Closing the connection rolls the stray transaction back.
+    async fn check_all_done_and_delete(self, jobs: u32) -> anyhow::Result<()> {
+        self.pool.close().await;
+        let mut conn = sqlx::PgConnection::connect(&self.url).await?;
         let (done, total): (i64, i64) = sqlx::query_as(
             "SELECT count(*) FILTER (WHERE status = 'Done'), count(*)
              FROM apalis.jobs WHERE job_type = $1",
         )
         .bind(&self.queue)
-        .fetch_one(&self.pool)
+        .fetch_one(&mut conn)
         .await?;
+        sqlx::query("DELETE FROM apalis.jobs WHERE job_type = $1")
+            .bind(&self.queue)
+            .execute(&mut conn)
+            .await?;
+        sqlx::query("DELETE FROM apalis.workers WHERE worker_type = $1")
+            .bind(&self.queue)
+            .execute(&mut conn)
+            .await?;
+        conn.close().await?;
         ensure!(
             done == i64::from(jobs) && total == i64::from(jobs),
             "apalis: {done} of {total} tasks done, expected {jobs}"
         );
-        Ok(())
-    }
-
-    async fn delete_rows(self) -> anyhow::Result<()> {
-        sqlx::query("DELETE FROM apalis.jobs WHERE job_type = $1")
-            .bind(&self.queue)
-            .execute(&self.pool)
-            .await?;
-        sqlx::query("DELETE FROM apalis.workers WHERE worker_type = $1")
-            .bind(&self.queue)
-            .execute(&self.pool)
-            .await?;
-        self.pool.close().await;
         Ok(())
     }
 }
@@ -228,9 +237,8 @@ pub(crate) async fn throughput(
         "apalis: {aborted} workers did not stop within {STOP_PATIENCE:?}"
     );
 
-    scratch.check_all_done(jobs).await?;
+    scratch.check_all_done_and_delete(jobs).await?;
     let executed = recorder.take()?.into_iter().map(|(key, _)| key).collect();
-    scratch.delete_rows().await?;
     Ok(ThroughputRun {
         system: System::Apalis,
         workers,
@@ -274,9 +282,8 @@ pub(crate) async fn latency(
         );
     }
 
-    scratch.check_all_done(jobs).await?;
+    scratch.check_all_done_and_delete(jobs).await?;
     let started = recorder.take()?;
-    scratch.delete_rows().await?;
     Ok(LatencyRun {
         system: System::Apalis,
         wakeup,
