@@ -47,6 +47,12 @@ pub enum Command {
         #[command(subcommand)]
         action: TenantAction,
     },
+    /// Pause or resume claims of a stage across the fleet (running work finishes).
+    Stage {
+        /// What to do.
+        #[command(subcommand)]
+        action: StageAction,
+    },
     /// Submit asset files (uploads) or a batch manifest to the API; `--watch` follows them.
     Submit(crate::service::client::SubmitArgs),
     /// Show the newest jobs, or one asset's stages.
@@ -66,6 +72,33 @@ pub enum TenantAction {
     Create {
         /// The tenant's name.
         name: String,
+        /// Where the queue state lives.
+        #[command(flatten)]
+        service: crate::service::config::ServiceArgs,
+    },
+}
+
+/// Stage actions.
+#[derive(Debug, Subcommand)]
+pub enum StageAction {
+    /// Stop claiming runs of a stage.
+    Pause {
+        /// The stage.
+        stage: String,
+        /// Where the queue state lives.
+        #[command(flatten)]
+        service: crate::service::config::ServiceArgs,
+    },
+    /// Claim runs of a stage again.
+    Resume {
+        /// The stage.
+        stage: String,
+        /// Where the queue state lives.
+        #[command(flatten)]
+        service: crate::service::config::ServiceArgs,
+    },
+    /// List paused stages.
+    Paused {
         /// Where the queue state lives.
         #[command(flatten)]
         service: crate::service::config::ServiceArgs,

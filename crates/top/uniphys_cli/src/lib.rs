@@ -5,7 +5,7 @@
 //! - `uniphys points <asset> --out <dir>`: UniPhysGen point clouds (npz) and model frame;
 //! - `uniphys eval --pred <record>... --gt <urdf|record|entity>...`: the paper's metrics;
 //! - `uniphys examples --out <dir>`: write the example assets as GLB;
-//! - `uniphys serve | api | worker | migrate | tenant create`: the job-queue service
+//! - `uniphys serve | api | worker | migrate | tenant create | stage pause|resume|paused`: the job-queue service
 //!   ([`service`]); `uniphys submit | status`: its API client.
 
 mod args;
@@ -17,7 +17,7 @@ mod report_notes;
 mod run_cmd;
 pub mod service;
 
-pub use args::{Cli, Command, EvalArgs, TenantAction};
+pub use args::{Cli, Command, EvalArgs, StageAction, TenantAction};
 
 use std::process::ExitCode;
 
@@ -53,6 +53,15 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Tenant {
             action: TenantAction::Create { name, service },
         } => service::create_tenant(&service, &name),
+        Command::Stage { action } => match action {
+            StageAction::Pause { stage, service } => {
+                service::stage_control(&service, "pause", Some(&stage))
+            }
+            StageAction::Resume { stage, service } => {
+                service::stage_control(&service, "resume", Some(&stage))
+            }
+            StageAction::Paused { service } => service::stage_control(&service, "paused", None),
+        },
         Command::Submit(args) => service::client::submit(&args),
         Command::Status(args) => service::client::status(&args),
         Command::Examples { out } => {

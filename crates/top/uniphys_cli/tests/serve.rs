@@ -103,6 +103,22 @@ fn serve_submit_watch_status_and_shutdown() {
         "{message}"
     );
 
+    for (args, expected) in [
+        (&["stage", "pause", "convert"][..], "convert: paused"),
+        (&["stage", "paused"][..], "convert"),
+        (&["stage", "resume", "convert"][..], "convert: resumed"),
+    ] {
+        let out = uniphys(dir.path(), &api_url)
+            .args(args)
+            .output()
+            .expect("stage runs");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && text.contains(expected),
+            "{args:?}: {text}"
+        );
+    }
+
     let term = Command::new("kill")
         .args(["-TERM", &server.id().to_string()])
         .status()

@@ -43,3 +43,44 @@ pub fn create_tenant(args: &ServiceArgs, name: &str) -> anyhow::Result<ExitCode>
             Ok(ExitCode::SUCCESS)
         })
 }
+
+/// `uniphys stage pause|resume|paused`: holds or releases claims of a stage fleet-wide.
+pub fn stage_control(
+    args: &ServiceArgs,
+    action: &str,
+    stage: Option<&str>,
+) -> anyhow::Result<ExitCode> {
+    tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()?
+        .block_on(async {
+            let opened = runtime::open(args, false).await?;
+            match (action, stage) {
+                ("pause", Some(stage)) => {
+                    let changed = opened.store.pause_stage(stage).await?;
+                    println!(
+                        "{stage}: {}",
+                        if changed {
+                            "paused"
+                        } else {
+                            "was already paused"
+                        }
+                    );
+                }
+                ("resume", Some(stage)) => {
+                    let changed = opened.store.resume_stage(stage).await?;
+                    println!(
+                        "{stage}: {}",
+                        if changed { "resumed" } else { "was not paused" }
+                    );
+                }
+                _ => {
+                    for stage in opened.store.paused_stages().await? {
+                        println!("{stage}");
+                    }
+                }
+            }
+            opened.store.close().await;
+            Ok(ExitCode::SUCCESS)
+        })
+}

@@ -102,6 +102,11 @@ async fn serve_api(
         store: opened.store.clone(),
         redis,
     });
+    tokio::spawn(retention_loop(
+        opened.store.clone(),
+        args.retention(),
+        shutdown.clone(),
+    ));
     let listener = tokio::net::TcpListener::bind(args.listen)
         .await
         .with_context(|| format!("cannot listen on {}", args.listen))?;
@@ -111,6 +116,28 @@ async fn serve_api(
         .with_graceful_shutdown(async move { shutdown.cancelled().await })
         .await
         .context("the API server failed")
+}
+
+/// Deletes finished jobs past their retention once an hour (the hot tables stay small).
+async fn retention_loop(
+    store: uniphys_queue::QueueStore,
+    policy: uniphys_queue::RetentionPolicy,
+    shutdown: CancellationToken,
+) {
+    let mut tick = tokio::time::interval(std::time::Duration::from_secs(3600));
+    loop {
+        tokio::select! {
+            _ = tick.tick() => {}
+            () = shutdown.cancelled() => return,
+        }
+        match store.purge_finished(&policy).await {
+            Ok(report) if report.jobs > 0 => {
+                info!(jobs = report.jobs, "retention deleted finished jobs")
+            }
+            Ok(_) => {}
+            Err(e) => tracing::warn!(error = %e, "retention failed; retrying in an hour"),
+        }
+    }
 }
 
 /// `uniphys serve`.

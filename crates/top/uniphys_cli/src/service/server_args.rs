@@ -19,6 +19,25 @@ pub struct ApiArgs {
     /// Unfinished stage runs a tenant may have before submissions get 429.
     #[arg(long, env = "UNIPHYS_MAX_BACKLOG_PER_TENANT", default_value_t = 10_000)]
     pub max_backlog_per_tenant: u64,
+    /// Hours a succeeded or cancelled job (its runs, manifests and events) is kept; the API
+    /// process deletes older ones every hour. Artifacts and assets stay.
+    #[arg(long, env = "UNIPHYS_RETENTION_FINISHED_HOURS", default_value_t = 720)]
+    pub retention_finished_hours: u64,
+    /// Hours a dead-lettered job is kept.
+    #[arg(long, env = "UNIPHYS_RETENTION_DEAD_HOURS", default_value_t = 2160)]
+    pub retention_dead_hours: u64,
+}
+
+impl ApiArgs {
+    /// The retention policy.
+    #[must_use]
+    pub fn retention(&self) -> uniphys_queue::RetentionPolicy {
+        uniphys_queue::RetentionPolicy {
+            finished: Duration::from_secs(self.retention_finished_hours.saturating_mul(3600)),
+            dead: Duration::from_secs(self.retention_dead_hours.saturating_mul(3600)),
+            ..uniphys_queue::RetentionPolicy::default()
+        }
+    }
 }
 
 /// Worker settings.
