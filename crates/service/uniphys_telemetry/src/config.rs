@@ -33,8 +33,9 @@ impl FromStr for LogFormat {
 pub struct TelemetryConfig {
     /// Text or JSON log lines.
     pub log_format: LogFormat,
-    /// Which spans and events are recorded, in `EnvFilter` syntax (`info`,
-    /// `uniphys_worker=debug,sqlx=warn`); applies to logs and traces alike.
+    /// Which spans and events are logged, in `EnvFilter` syntax (`info`,
+    /// `uniphys_worker=debug,sqlx=warn`). Exported traces record `info` and above regardless,
+    /// so quieter logs keep the request and stage spans.
     pub log_filter: String,
     /// Base URL of an OTLP/HTTP collector (`http://collector:4318`); traces are exported in
     /// protobuf to `<endpoint>/v1/traces`. `None` (the default) exports no traces.

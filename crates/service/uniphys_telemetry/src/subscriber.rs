@@ -83,6 +83,9 @@ pub fn init(config: &TelemetryConfig) -> TelemetryResult<TelemetryGuard> {
     Ok(guard)
 }
 
+/// What the trace export records, whatever the log filter: the request and stage spans are `info`.
+const TRACE_FILTER: &str = "info";
+
 /// Builds the subscriber described by `config` without installing it (for
 /// `tracing::subscriber::with_default` in tests, or to add layers before installing).
 pub fn subscriber(
@@ -93,11 +96,17 @@ pub fn subscriber(
         message: e.to_string(),
     })?;
     let provider = tracer_provider(config)?;
-    let mut layers = vec![fmt_layer(config.log_format)];
+    // Each layer filters for itself: quieter logs must not cut the request and stage spans
+    // out of the traces.
+    let mut layers = vec![fmt_layer(config.log_format).with_filter(filter).boxed()];
     if let Some(provider) = &provider {
-        layers.push(otel_layer(provider).boxed());
+        layers.push(
+            otel_layer(provider)
+                .with_filter(EnvFilter::new(TRACE_FILTER))
+                .boxed(),
+        );
     }
-    let subscriber = Registry::default().with(filter).with(layers);
+    let subscriber = Registry::default().with(layers);
     Ok((Box::new(subscriber), TelemetryGuard { provider }))
 }
 
