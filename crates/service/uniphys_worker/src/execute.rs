@@ -113,7 +113,7 @@ pub(crate) async fn execute(
                 Ok(()) = progress.changed() => {
                     let now = progress.borrow_and_update().clone();
                     let update = Progress::new(now.fraction, now.message);
-                    if shared.hints.set_progress(input_job(&run), &run.stage_name, &update).await.is_err() {
+                    if shared.hints.set_progress(run.job_id.0, &run.stage_name, &update).await.is_err() {
                         shared.metrics.record_hints_error("set_progress");
                     }
                 }
@@ -139,10 +139,6 @@ pub(crate) async fn execute(
     }
     .instrument(span)
     .await;
-}
-
-fn input_job(run: &ClaimedRun) -> i64 {
-    run.job_id.0
 }
 
 /// Records how the run ended; `None` when it was released or left to lease recovery.
