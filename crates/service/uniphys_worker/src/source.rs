@@ -22,12 +22,14 @@ impl SourceFile {
             .next()
             .filter(|n| !n.is_empty() && *n != "." && *n != "..")
             .ok_or_else(|| StageError::Permanent(format!("source key {uri:?} has no file name")))?;
-        let bytes = input.fetch(uri)?;
         let dir = tempfile::tempdir()
             .map_err(|e| StageError::Transient(format!("temporary directory: {e}")))?;
         let path = dir.path().join(name);
-        std::fs::write(&path, bytes)
-            .map_err(|e| StageError::Transient(format!("writing {}: {e}", path.display())))?;
+        // Streamed to disk: sources may be hundreds of megabytes.
+        input
+            .runtime
+            .block_on(input.artifacts.get_to_file(uri, &path))
+            .map_err(|e| StageError::Transient(format!("reading {uri}: {e}")))?;
         Ok(Self { _dir: dir, path })
     }
 

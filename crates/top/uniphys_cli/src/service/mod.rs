@@ -15,33 +15,27 @@ use config::ServiceArgs;
 
 /// `uniphys migrate`: applies the queue's migrations.
 pub fn migrate(args: &ServiceArgs) -> anyhow::Result<ExitCode> {
-    tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()?
-        .block_on(async {
-            let opened = runtime::open(args, true).await?;
-            println!(
-                "queue migrations applied on {}",
-                runtime::redact(&args.store_config()?.url)
-            );
-            opened.store.close().await;
-            Ok(ExitCode::SUCCESS)
-        })
+    server::runtime()?.block_on(async {
+        let opened = runtime::open(args, true).await?;
+        println!(
+            "queue migrations applied on {}",
+            runtime::redact(&args.store_config()?.url)
+        );
+        opened.store.close().await;
+        Ok(ExitCode::SUCCESS)
+    })
 }
 
 /// `uniphys tenant create <name>`: creates a tenant (or finds it) and prints a new API key.
 pub fn create_tenant(args: &ServiceArgs, name: &str) -> anyhow::Result<ExitCode> {
-    tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()?
-        .block_on(async {
-            let opened = runtime::open(args, true).await?;
-            let (tenant, key) = tenants::create_tenant_key(&opened.store, name, "cli").await?;
-            eprintln!("{tenant}: new API key (shown once; the service keeps only its digest):");
-            println!("{key}");
-            opened.store.close().await;
-            Ok(ExitCode::SUCCESS)
-        })
+    server::runtime()?.block_on(async {
+        let opened = runtime::open(args, true).await?;
+        let (tenant, key) = tenants::create_tenant_key(&opened.store, name, "cli").await?;
+        eprintln!("{tenant}: new API key (shown once; the service keeps only its digest):");
+        println!("{key}");
+        opened.store.close().await;
+        Ok(ExitCode::SUCCESS)
+    })
 }
 
 /// `uniphys stage pause|resume|paused`: holds or releases claims of a stage fleet-wide.
@@ -50,37 +44,34 @@ pub fn stage_control(
     action: &str,
     stage: Option<&str>,
 ) -> anyhow::Result<ExitCode> {
-    tokio::runtime::Builder::new_multi_thread()
-        .enable_all()
-        .build()?
-        .block_on(async {
-            let opened = runtime::open(args, false).await?;
-            match (action, stage) {
-                ("pause", Some(stage)) => {
-                    let changed = opened.store.pause_stage(stage).await?;
-                    println!(
-                        "{stage}: {}",
-                        if changed {
-                            "paused"
-                        } else {
-                            "was already paused"
-                        }
-                    );
-                }
-                ("resume", Some(stage)) => {
-                    let changed = opened.store.resume_stage(stage).await?;
-                    println!(
-                        "{stage}: {}",
-                        if changed { "resumed" } else { "was not paused" }
-                    );
-                }
-                _ => {
-                    for stage in opened.store.paused_stages().await? {
-                        println!("{stage}");
+    server::runtime()?.block_on(async {
+        let opened = runtime::open(args, false).await?;
+        match (action, stage) {
+            ("pause", Some(stage)) => {
+                let changed = opened.store.pause_stage(stage).await?;
+                println!(
+                    "{stage}: {}",
+                    if changed {
+                        "paused"
+                    } else {
+                        "was already paused"
                     }
+                );
+            }
+            ("resume", Some(stage)) => {
+                let changed = opened.store.resume_stage(stage).await?;
+                println!(
+                    "{stage}: {}",
+                    if changed { "resumed" } else { "was not paused" }
+                );
+            }
+            _ => {
+                for stage in opened.store.paused_stages().await? {
+                    println!("{stage}");
                 }
             }
-            opened.store.close().await;
-            Ok(ExitCode::SUCCESS)
-        })
+        }
+        opened.store.close().await;
+        Ok(ExitCode::SUCCESS)
+    })
 }

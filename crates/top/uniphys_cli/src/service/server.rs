@@ -17,7 +17,8 @@ use super::runtime::{Opened, open, telemetry};
 use super::server_args::{ApiArgs, ApiOnlyArgs, ServeArgs, WorkerArgs, WorkerOnlyArgs};
 use super::tenants::ensure_local_key;
 
-fn runtime() -> anyhow::Result<tokio::runtime::Runtime> {
+/// The multi-threaded runtime every service command runs on.
+pub(crate) fn runtime() -> anyhow::Result<tokio::runtime::Runtime> {
     tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
