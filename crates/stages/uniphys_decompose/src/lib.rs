@@ -1,0 +1,32 @@
+//! Stage 2, decomposition: turns a mesh (one piece, or over- or under-segmented parts) into
+//! parts that move and are made of one material.
+//!
+//! The map, in the order the stage runs:
+//! - [`views`]: multi-view face-ID renders of the merged mesh (CPU, deterministic);
+//! - [`segment`]: a [`Segmenter`] gives a label map per view (built-in render-space segmenter,
+//!   or a SAM-compatible service), and overlapping masks become label maps;
+//! - [`lift`] and [`consensus`]: labels lifted to faces by pixel majority per view, then merged
+//!   across views; [`prior`] estimates the part-count prior K;
+//! - [`candidates`]: a [`CandidateGenerator`] gives decompositions for K in a range (built-in
+//!   geometric clustering, or per-face features from a PartField-compatible service);
+//! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
+//! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
+//!   split, small fragments merged; all thresholds relative to the object size;
+//! - [`decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map.
+
+pub mod apriori;
+pub mod candidates;
+pub mod consensus;
+pub mod decompose;
+mod error;
+pub mod hungarian;
+pub mod lift;
+pub mod output;
+pub mod prior;
+pub mod refine;
+pub mod segment;
+pub mod select;
+pub mod small_parts;
+pub mod views;
+
+pub use error::{DecomposeError, DecomposeResult};
