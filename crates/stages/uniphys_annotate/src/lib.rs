@@ -1,0 +1,28 @@
+//! LVLM grounding (stages 3 and 4 of the product): a vision-language model annotates an asset's
+//! object and part properties from rendered views, the motion graph is built from its answer, and
+//! each movable part's joint is chosen by the model among geometric candidates.
+//!
+//! Map of the crate:
+//! - [`prompt`]: the versioned prompt files and how they are filled;
+//! - [`schema`]: the answers as serde types; [`validate`]: every schema violation with its path;
+//! - [`quantities`]: unit strings of the answers → SI; [`convert`]: answers → domain types;
+//! - [`colours`]: legend colour names → candidate index;
+//! - [`motion_graph`]: movable parts, parents, co-moving groups and the issues of the answer;
+//! - `error`: [`AnnotateError`].
+
+mod colours;
+pub mod convert;
+mod error;
+pub mod motion_graph;
+pub mod prompt;
+pub mod quantities;
+pub mod schema;
+pub mod validate;
+
+pub use colours::{colour_index, normalise_colour};
+pub use error::{AnnotateError, AnnotateResult};
+pub use motion_graph::{
+    FixedLink, MotionGraph, MotionIssue, MotionIssueKind, MovablePart, motion_graph,
+};
+pub use prompt::PROMPT_VERSION;
+pub use validate::{Violation, validate_articulation, validate_properties};
