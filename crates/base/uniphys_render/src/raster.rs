@@ -1,0 +1,145 @@
+//! The triangle scan converter behind [`crate::render_face_ids`].
+
+use uniphys_geometry::DVec3;
+
+use crate::camera::ViewTransform;
+
+/// A vertex in pixel coordinates with its inverse view depth (interpolates linearly on screen).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ScreenVertex {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) inv_z: f64,
+}
+
+impl ScreenVertex {
+    /// Projects a view-space point; only meaningful in front of the near plane.
+    #[inline]
+    pub(crate) fn project(view: &ViewTransform, p_view: DVec3) -> Self {
+        let (x, y) = view.screen(p_view);
+        Self {
+            x,
+            y,
+            inv_z: 1.0 / p_view.z,
+        }
+    }
+}
+
+/// The buffers a triangle is drawn into.
+pub(crate) struct Target<'a> {
+    pub(crate) width_px: usize,
+    pub(crate) height_px: usize,
+    /// Inverse view depth per pixel, 0 on background.
+    pub(crate) inv_depth: &'a mut [f64],
+    /// Face id per pixel, 0 on background.
+    pub(crate) face: &'a mut [u32],
+}
+
+/// An edge function `E(p) = sign * ((q - p0) x (p - p0))` evaluated with its endpoints in a
+/// canonical order (smaller `(y, x)` first), so the two triangles sharing an edge compute exactly
+/// opposite values and a pixel centre on the edge goes to exactly one of them.
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    ax: f64,
+    ay: f64,
+    dx: f64,
+    dy: f64,
+    sign: f64,
+}
+
+impl Edge {
+    #[inline]
+    fn new(a: ScreenVertex, b: ScreenVertex) -> Self {
+        let (p, q, sign) = if (a.y, a.x) <= (b.y, b.x) {
+            (a, b, 1.0)
+        } else {
+            (b, a, -1.0)
+        };
+        Self {
+            ax: p.x,
+            ay: p.y,
+            dx: q.x - p.x,
+            dy: q.y - p.y,
+            sign,
+        }
+    }
+
+    /// The part of `E` that depends only on the row.
+    #[inline]
+    fn row(&self, y: f64) -> f64 {
+        self.dx * (y - self.ay)
+    }
+
+    #[inline]
+    fn at(&self, row: f64, x: f64) -> f64 {
+        self.sign * (row - self.dy * (x - self.ax))
+    }
+
+    /// Inside test with the ownership rule for centres exactly on the edge.
+    #[inline]
+    fn covers(&self, value: f64) -> bool {
+        value > 0.0 || (value == 0.0 && self.sign > 0.0)
+    }
+}
+
+/// Draws one screen-space triangle with face id `id` into `target` (z-test on inverse depth,
+/// strictly nearer wins, so on a tie the earlier, smaller id stays).
+pub(crate) fn rasterise_triangle(target: &mut Target<'_>, v: [ScreenVertex; 3], id: u32) {
+    let min_x = v[0].x.min(v[1].x).min(v[2].x);
+    let max_x = v[0].x.max(v[1].x).max(v[2].x);
+    let min_y = v[0].y.min(v[1].y).min(v[2].y);
+    let max_y = v[0].y.max(v[1].y).max(v[2].y);
+    // Pixel i is covered when its centre i + 0.5 is inside: i in [ceil(min - 0.5), floor(max - 0.5)].
+    let x0 = (min_x - 0.5).ceil().max(0.0);
+    let y0 = (min_y - 0.5).ceil().max(0.0);
+    let x1 = (max_x - 0.5).floor().min(target.width_px as f64 - 1.0);
+    let y1 = (max_y - 0.5).floor().min(target.height_px as f64 - 1.0);
+    // Also rejects NaN coordinates (every comparison with NaN is false).
+    if !(x0 <= x1 && y0 <= y1) {
+        return;
+    }
+    let mut e = [
+        Edge::new(v[1], v[2]),
+        Edge::new(v[2], v[0]),
+        Edge::new(v[0], v[1]),
+    ];
+    let mut area = e[2].at(e[2].row(v[2].y), v[2].x);
+    if !area.is_finite() || area == 0.0 {
+        return;
+    }
+    if area < 0.0 {
+        // Both sides are visible: reverse the traversal so the inside is positive.
+        for edge in &mut e {
+            edge.sign = -edge.sign;
+        }
+        area = -area;
+    }
+    let inv_area = 1.0 / area;
+    let (z0, z1, z2) = (
+        v[0].inv_z * inv_area,
+        v[1].inv_z * inv_area,
+        v[2].inv_z * inv_area,
+    );
+    let (x0, x1, y0, y1) = (x0 as usize, x1 as usize, y0 as usize, y1 as usize);
+    let width = target.width_px;
+    for y in y0..=y1 {
+        let fy = y as f64 + 0.5;
+        let r = [e[0].row(fy), e[1].row(fy), e[2].row(fy)];
+        let row_start = y * width;
+        for x in x0..=x1 {
+            let fx = x as f64 + 0.5;
+            let w0 = e[0].at(r[0], fx);
+            let w1 = e[1].at(r[1], fx);
+            let w2 = e[2].at(r[2], fx);
+            if !(e[0].covers(w0) && e[1].covers(w1) && e[2].covers(w2)) {
+                continue;
+            }
+            let inv_z = w0 * z0 + w1 * z1 + w2 * z2;
+            let k = row_start + x;
+            if inv_z > target.inv_depth[k] {
+                target.inv_depth[k] = inv_z;
+                target.face[k] = id;
+            }
+        }
+    }
+}
