@@ -322,10 +322,10 @@ impl LvlmClient {
                     retry_after: None,
                     usage: usage_of(&body),
                 },
-                Err(Failure::Refused(refusal)) => Attempt::Fail {
+                Err(Failure::Refused(message)) => Attempt::Fail {
                     error: LvlmError::ModelRefused {
                         purpose: purpose.to_owned(),
-                        message: refusal.0,
+                        message,
                     },
                     usage: usage_of(&body),
                 },

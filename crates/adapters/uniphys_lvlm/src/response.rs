@@ -29,10 +29,6 @@ pub struct ChatResponse {
     pub finish_reason: Option<String>,
 }
 
-/// The model declined to answer: its refusal text.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct Refusal(pub(crate) String);
-
 /// Parses a chat-completions response body.
 ///
 /// # Errors
@@ -42,16 +38,19 @@ pub(crate) struct Refusal(pub(crate) String);
 pub fn parse_chat_response(body: &str) -> LvlmResult<ChatResponse> {
     parse_inner(body).map_err(|failure| match failure {
         Failure::Malformed(what) => LvlmError::Malformed { what },
-        Failure::Refused(Refusal(message)) => LvlmError::ModelRefused {
+        Failure::Refused(message) => LvlmError::ModelRefused {
             purpose: "chat".to_owned(),
             message,
         },
     })
 }
 
+/// Why a body is not an answer.
 pub(crate) enum Failure {
+    /// Not a chat completion, or one without content: what is wrong.
     Malformed(String),
-    Refused(Refusal),
+    /// The model declined to answer: its refusal text.
+    Refused(String),
 }
 
 /// Usage found in a body, whatever else is wrong with it (to charge failed attempts).
@@ -102,7 +101,7 @@ pub(crate) fn parse_inner(body: &str) -> Result<ChatResponse, Failure> {
         }
         None | Some(Value::Null) => {
             if let Some(refusal) = message.get("refusal").and_then(Value::as_str) {
-                return Err(Failure::Refused(Refusal(refusal.to_owned())));
+                return Err(Failure::Refused(refusal.to_owned()));
             }
             return Err(malformed("no \"choices[0].message.content\"".to_owned()));
         }

@@ -12,7 +12,7 @@ use uniphys_lvlm::{
     AnswerCache, ChatRequest, CostLedger, DirCache, LvlmClient, LvlmConfig, LvlmError, MemoryCache,
     NoCache, NoRateLimit, Pricing, RateLimiter, extract_marked_json,
 };
-use uniphys_replay::{Exchange, Fault, Recording, ReplayServer, Reply};
+use uniphys_replay::{Exchange, Fault, RecordedRequest, Recording, ReplayServer, Reply};
 
 const PATH: &str = "/v1/chat/completions";
 const KEY: &str = "sk-test-not-a-real-key-4711";
@@ -530,4 +530,75 @@ fn an_answer_with_json_outside_the_markers_reaches_the_caller_for_the_stage_to_j
         ),
         "{error}"
     );
+}
+
+#[test]
+fn retry_after_is_waited_for_up_to_the_backoff_cap() {
+    // Retry-After asks for 5 s; the cap is 0.25 s; without Retry-After the backoff would be
+    // about 1 ms. The gap between the two requests shows which wait the client chose.
+    let arrivals = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let seen = Arc::clone(&arrivals);
+    let server = ReplayServer::start_with(Arc::new(move |_request: &RecordedRequest| {
+        let mut seen = seen.lock().unwrap();
+        seen.push(std::time::Instant::now());
+        if seen.len() == 1 {
+            Reply::text(429, "slow down").with_header("Retry-After", "5")
+        } else {
+            ok("fine")
+        }
+    }))
+    .unwrap();
+    let config = LvlmConfig {
+        backoff_max_secs: 0.25,
+        ..config(&server)
+    };
+    let answer = client(config)
+        .complete(&request("a"), &CostLedger::unlimited())
+        .unwrap();
+    assert_eq!(answer.attempts, 2);
+    let arrivals = arrivals.lock().unwrap();
+    let gap = arrivals[1].duration_since(arrivals[0]);
+    assert!(gap >= std::time::Duration::from_millis(250), "{gap:?}");
+}
+
+#[test]
+fn a_model_refusal_is_reported_and_not_retried() {
+    let refusal = json!({
+        "choices": [{"message": {"role": "assistant", "content": null, "refusal": "I can't help with that."}}],
+        "usage": {"prompt_tokens": 1000, "completion_tokens": 200},
+    });
+    let server = server(vec![Reply::json(200, refusal)]);
+    let ledger = CostLedger::unlimited();
+    let error = client(config(&server))
+        .complete(&request("a"), &ledger)
+        .unwrap_err();
+    assert!(matches!(error, LvlmError::ModelRefused { .. }), "{error}");
+    assert!(error.to_string().contains("I can't help"), "{error}");
+    assert_eq!(server.requests().len(), 1);
+    // The refusal was paid for.
+    assert!((ledger.spent_usd() - EXACT_USD).abs() < 1e-15);
+}
+
+#[test]
+fn an_unreachable_server_gives_up_saying_so() {
+    let port = {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        listener.local_addr().unwrap().port()
+    };
+    let config = LvlmConfig {
+        base_url: format!("http://127.0.0.1:{port}/v1"),
+        max_attempts: 2,
+        backoff_initial_secs: 0.001,
+        backoff_max_secs: 0.01,
+        ..LvlmConfig::default()
+    };
+    let error = client(config)
+        .complete(&request("a"), &CostLedger::unlimited())
+        .unwrap_err();
+    let message = error.to_string();
+    assert!(
+        matches!(error, LvlmError::GaveUp { attempts: 2, .. }),
+        "{message}"
+    );
+    assert!(message.contains("cannot reach"), "{message}");
 }
