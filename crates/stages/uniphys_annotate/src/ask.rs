@@ -39,6 +39,9 @@ fn check<T>(
 }
 
 /// Sends `request`, validates the answer with `validate`, and repairs it once if needed.
+/// `subject` names the request in errors (`articulation of part 3`). When the repaired answer
+/// is still invalid, both answers are dropped from the client's cache, so a retry of the stage
+/// asks the model again instead of replaying them.
 ///
 /// # Errors
 /// [`AnnotateError::Lvlm`] if the client gives up (including the budget), and
@@ -47,6 +50,7 @@ pub fn ask_validated<T>(
     client: &LvlmClient,
     ledger: &CostLedger,
     request: &ChatRequest,
+    subject: &str,
     validate: &dyn Fn(&Value) -> Result<T, Vec<Violation>>,
 ) -> AnnotateResult<Asked<T>> {
     let first = client.complete(request, ledger)?;
@@ -74,9 +78,14 @@ pub fn ask_validated<T>(
             repaired: violations,
             requests: 2,
         }),
-        Err(violations) => Err(AnnotateError::InvalidAnswer {
-            purpose: request.purpose.clone(),
-            violations,
-        }),
+        Err(violations) => {
+            // Best effort: an entry that cannot be removed only costs a repeated failure.
+            client.forget(&first.digest).ok();
+            client.forget(&second.digest).ok();
+            Err(AnnotateError::InvalidAnswer {
+                purpose: subject.to_owned(),
+                violations,
+            })
+        }
     }
 }

@@ -41,6 +41,12 @@ pub enum AnnotateError {
         /// Every violation of the last answer.
         violations: Vec<Violation>,
     },
+    /// The client gave up (transport, HTTP, budget, timeouts after retries).
+    #[error(transparent)]
+    Lvlm(#[from] uniphys_lvlm::LvlmError),
+    /// A render could not be made or encoded.
+    #[error(transparent)]
+    Render(#[from] uniphys_render::RenderError),
     /// An option is outside its domain.
     #[error("invalid annotation option {name}: {reason}")]
     InvalidOption {

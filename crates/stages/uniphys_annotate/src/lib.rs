@@ -8,8 +8,14 @@
 //! - [`quantities`]: unit strings of the answers → SI; [`convert`]: answers → domain types;
 //! - [`colours`]: legend colour names → candidate index;
 //! - [`motion_graph`]: movable parts, parents, co-moving groups and the issues of the answer;
+//! - [`articulation`]: candidates of a movable part and the model's choice among them;
+//! - `views`: the request images (part composites, candidate axes, candidate pivots);
+//! - `ask`: one request with validation and one repair turn;
+//! - `stage`: [`annotate`], the whole stage;
 //! - `error`: [`AnnotateError`].
 
+pub mod articulation;
+mod ask;
 mod colours;
 pub mod convert;
 mod error;
@@ -17,12 +23,20 @@ pub mod motion_graph;
 pub mod prompt;
 pub mod quantities;
 pub mod schema;
+mod stage;
 pub mod validate;
+mod views;
 
+pub use ask::{Asked, ask_validated};
 pub use colours::{colour_index, normalise_colour};
 pub use error::{AnnotateError, AnnotateResult};
 pub use motion_graph::{
     FixedLink, MotionGraph, MotionIssue, MotionIssueKind, MovablePart, motion_graph,
 };
 pub use prompt::PROMPT_VERSION;
+pub use stage::{
+    AnnotateInput, AnnotateOptions, AnnotateTimings, Annotation, ArticulationFailure, MAX_PARTS,
+    Repair, annotate,
+};
 pub use validate::{Violation, validate_articulation, validate_properties};
+pub use views::{AXIS_LEGEND, PIVOT_LEGEND};
