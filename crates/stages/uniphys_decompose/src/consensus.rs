@@ -1,1 +1,287 @@
-//! (being written)
+//! Cross-view merging of the lifted masks (reference §3.3): masks that cover the same surface in
+//! different views become one, by union-find over area-weighted overlaps, pass after pass.
+
+use std::collections::BTreeMap;
+
+use crate::candidates::UnionFind;
+use crate::lift::FaceSet;
+
+/// Options of [`merge_masks`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConsensusOptions {
+    /// Two masks merge when their area-weighted IoU is at least this (default 0.2).
+    pub iou_min: f64,
+    /// ... or when their overlap coefficient, intersection over the smaller area, exceeds this
+    /// (default 0.9).
+    pub overlap_min: f64,
+    /// Merge passes at most; merging stops earlier once a pass changes nothing (default 10).
+    pub max_passes: usize,
+}
+
+impl Default for ConsensusOptions {
+    fn default() -> Self {
+        Self {
+            iou_min: 0.2,
+            overlap_min: 0.9,
+            max_passes: 10,
+        }
+    }
+}
+
+/// Masks (of all views) that the pairwise intersections are kept for in a dense matrix; beyond,
+/// a sorted map.
+const DENSE_PAIR_LIMIT: usize = 1024;
+
+/// A merged mask: its faces with the number of input masks that contain each.
+#[derive(Debug, Clone, Default)]
+struct Group {
+    /// `(face, votes)`, sorted by face.
+    faces: Vec<(u32, u32)>,
+    area_m2: f64,
+}
+
+/// Merges the lifted masks of all views into disjoint face sets.
+///
+/// Each pass unions (union-find, so merging is transitive within a pass) every two masks whose
+/// area-weighted IoU reaches [`ConsensusOptions::iou_min`] or whose intersection exceeds
+/// [`ConsensusOptions::overlap_min`] of the smaller one; the unions are the next pass's masks.
+/// Passes stop when one merges nothing. Masks that were not merged may still share faces; such a
+/// face goes to the merged mask with the most votes for it (the number of input masks containing
+/// it, i.e. of views that gave it to that mask), then to the larger mask by area, then to the
+/// earlier one. The result is sorted by area, largest first (ties: smaller first face); empty
+/// masks are left out. Faces beyond `face_area_m2` are ignored.
+#[must_use]
+pub fn merge_masks(
+    masks: &[FaceSet],
+    face_area_m2: &[f64],
+    options: &ConsensusOptions,
+) -> Vec<FaceSet> {
+    let area = |f: u32| face_area_m2.get(f as usize).copied().unwrap_or(0.0);
+    let mut groups: Vec<Group> = masks
+        .iter()
+        .map(|mask| {
+            let mut faces: Vec<(u32, u32)> = mask
+                .iter()
+                .filter(|&&f| (f as usize) < face_area_m2.len())
+                .map(|&f| (f, 1))
+                .collect();
+            faces.sort_unstable();
+            faces.dedup();
+            let area_m2 = faces.iter().map(|&(f, _)| area(f)).sum();
+            Group { faces, area_m2 }
+        })
+        .filter(|g| !g.faces.is_empty())
+        .collect();
+
+    for _ in 0..options.max_passes {
+        let merged = merge_pass(&groups, &area, options);
+        if merged.len() == groups.len() {
+            break;
+        }
+        groups = merged;
+    }
+    disjoint_face_sets(&groups, face_area_m2)
+}
+
+/// One union-find pass; returns the groups unchanged in number when nothing merged.
+fn merge_pass(
+    groups: &[Group],
+    area: &dyn Fn(u32) -> f64,
+    options: &ConsensusOptions,
+) -> Vec<Group> {
+    let n = groups.len();
+    let mut members: Vec<(u32, u32)> = groups
+        .iter()
+        .enumerate()
+        .flat_map(|(g, group)| {
+            let g = u32::try_from(g).unwrap_or(u32::MAX);
+            group.faces.iter().map(move |&(f, _)| (f, g))
+        })
+        .collect();
+    members.sort_unstable();
+
+    let mut dense = if n <= DENSE_PAIR_LIMIT {
+        vec![0.0f64; n * n]
+    } else {
+        Vec::new()
+    };
+    let mut sparse: BTreeMap<(u32, u32), f64> = BTreeMap::new();
+    for same_face in members.chunk_by(|a, b| a.0 == b.0) {
+        let a_f = area(same_face[0].0);
+        for (k, &(_, i)) in same_face.iter().enumerate() {
+            for &(_, j) in &same_face[k + 1..] {
+                if dense.is_empty() {
+                    *sparse.entry((i, j)).or_insert(0.0) += a_f;
+                } else {
+                    dense[i as usize * n + j as usize] += a_f;
+                }
+            }
+        }
+    }
+    let pairs: Box<dyn Iterator<Item = ((u32, u32), f64)>> = if dense.is_empty() {
+        Box::new(sparse.into_iter())
+    } else {
+        Box::new(
+            dense
+                .iter()
+                .enumerate()
+                .filter(|&(_, &a)| a > 0.0)
+                .map(|(k, &a)| {
+                    let (i, j) = (k / n, k % n);
+                    ((i as u32, j as u32), a)
+                }),
+        )
+    };
+
+    let mut uf = UnionFind::new(n);
+    let mut unions = 0usize;
+    for ((i, j), inter) in pairs {
+        let (a_i, a_j) = (groups[i as usize].area_m2, groups[j as usize].area_m2);
+        let union = a_i + a_j - inter;
+        let smaller = a_i.min(a_j);
+        let iou = if union > 0.0 { inter / union } else { 0.0 };
+        let overlap = if smaller > 0.0 { inter / smaller } else { 0.0 };
+        if (iou >= options.iou_min || overlap > options.overlap_min) && uf.union(i, j) {
+            unions += 1;
+        }
+    }
+    if unions == 0 {
+        return groups.to_vec();
+    }
+
+    // Components in the order of their smallest member (the union-find root).
+    let mut component_faces: BTreeMap<u32, Vec<(u32, u32)>> = BTreeMap::new();
+    for (g, group) in groups.iter().enumerate() {
+        let root = uf.find(u32::try_from(g).unwrap_or(u32::MAX));
+        component_faces
+            .entry(root)
+            .or_default()
+            .extend_from_slice(&group.faces);
+    }
+    component_faces
+        .into_values()
+        .map(|mut faces| {
+            faces.sort_unstable();
+            let mut summed: Vec<(u32, u32)> = Vec::with_capacity(faces.len());
+            for (f, votes) in faces {
+                match summed.last_mut() {
+                    Some(last) if last.0 == f => last.1 += votes,
+                    _ => summed.push((f, votes)),
+                }
+            }
+            let area_m2 = summed.iter().map(|&(f, _)| area(f)).sum();
+            Group {
+                faces: summed,
+                area_m2,
+            }
+        })
+        .collect()
+}
+
+/// Gives every face to one group (most votes, then larger area, then earlier group) and sorts
+/// the resulting sets by area, largest first.
+fn disjoint_face_sets(groups: &[Group], face_area_m2: &[f64]) -> Vec<FaceSet> {
+    let mut owner: Vec<(u32, u32)> = vec![(u32::MAX, 0); face_area_m2.len()];
+    for (g, group) in groups.iter().enumerate() {
+        let g = u32::try_from(g).unwrap_or(u32::MAX);
+        for &(f, votes) in &group.faces {
+            let slot = &mut owner[f as usize];
+            let better = slot.0 == u32::MAX
+                || votes > slot.1
+                || (votes == slot.1 && group.area_m2 > groups[slot.0 as usize].area_m2);
+            if better {
+                *slot = (g, votes);
+            }
+        }
+    }
+    let mut sets: Vec<(f64, FaceSet)> = vec![(0.0, Vec::new()); groups.len()];
+    for (f, &(g, _)) in owner.iter().enumerate() {
+        if g != u32::MAX {
+            sets[g as usize]
+                .1
+                .push(u32::try_from(f).unwrap_or(u32::MAX));
+        }
+    }
+    for set in &mut sets {
+        set.0 = set.1.iter().map(|&f| face_area_m2[f as usize]).sum();
+    }
+    let mut sets: Vec<(f64, FaceSet)> = sets.into_iter().filter(|(_, s)| !s.is_empty()).collect();
+    sets.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1[0].cmp(&b.1[0])));
+    sets.into_iter().map(|(_, s)| s).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn range(r: std::ops::Range<u32>) -> FaceSet {
+        r.collect()
+    }
+
+    #[test]
+    fn the_same_part_seen_in_different_views_becomes_one_mask() {
+        // View 0 sees faces 0..6 of the body and the lid 10..12; view 1 sees 3..9 of the body and
+        // the lid 10..13; view 2 sees only the body's 0..9.
+        let masks = vec![
+            range(0..6),
+            range(10..12),
+            range(3..9),
+            range(10..13),
+            range(0..9),
+        ];
+        let merged = merge_masks(&masks, &[1.0; 13], &ConsensusOptions::default());
+        assert_eq!(merged, vec![range(0..9), range(10..13)]);
+    }
+
+    #[test]
+    fn overlap_is_measured_by_area_not_face_count() {
+        // The shared face 3 is large: IoU 10 / 16 by area (merged), 1 / 7 by face count.
+        let masks = vec![range(0..4), range(3..7)];
+        let mut area = vec![1.0; 7];
+        area[3] = 10.0;
+        let merged = merge_masks(&masks, &area, &ConsensusOptions::default());
+        assert_eq!(merged, vec![range(0..7)]);
+        let merged = merge_masks(&masks, &[1.0; 7], &ConsensusOptions::default());
+        assert_eq!(merged.len(), 2);
+    }
+
+    #[test]
+    fn a_mask_inside_another_merges_by_the_overlap_coefficient() {
+        // IoU 3 / 20 is below 0.2, but all of the small mask lies in the large one.
+        let masks = vec![range(0..20), range(5..8)];
+        let merged = merge_masks(&masks, &[1.0; 20], &ConsensusOptions::default());
+        assert_eq!(merged, vec![range(0..20)]);
+    }
+
+    #[test]
+    fn later_passes_merge_what_the_first_pass_made_overlap() {
+        // A and C merge in pass 1 (IoU 1/3); B overlaps each by 2 of 5 faces (IoU 0.15) but
+        // the union A + C by 4 of 5 (IoU 0.25), so it joins in pass 2.
+        let a = range(0..10);
+        let c = range(5..15);
+        let b = vec![0, 1, 13, 14, 30];
+        let masks = vec![a, b, c];
+        let area = [1.0; 31];
+        let all = merge_masks(&masks, &area, &ConsensusOptions::default());
+        let mut expected = range(0..15);
+        expected.push(30);
+        assert_eq!(all, vec![expected]);
+        let one_pass = ConsensusOptions {
+            max_passes: 1,
+            ..ConsensusOptions::default()
+        };
+        // After one pass B keeps only the face nobody else has: its shared faces have one vote
+        // in each mask and go to the larger A + C.
+        let first = merge_masks(&masks, &area, &one_pass);
+        assert_eq!(first, vec![range(0..15), vec![30]]);
+    }
+
+    #[test]
+    fn a_face_in_two_unmerged_masks_goes_to_the_one_more_views_gave_it_to() {
+        // Two views agree on 0..4 (two votes for face 3); a third mask 3..13 is larger but gives
+        // face 3 only one vote.
+        let masks = vec![range(0..4), range(0..4), range(3..13)];
+        let merged = merge_masks(&masks, &[1.0; 13], &ConsensusOptions::default());
+        assert_eq!(merged, vec![range(4..13), range(0..4)]);
+    }
+}

@@ -7,6 +7,20 @@ pub enum DecomposeError {
     /// An option is out of its domain.
     #[error("invalid decomposition option: {0}")]
     InvalidOption(String),
+    /// No face is visible in any rendered view.
+    #[error("no face is visible in any view")]
+    NothingVisible,
+    /// The segmentation of every view lifted to no face.
+    #[error("the view segmentations lifted to no face (no mask in any view)")]
+    NoMasks,
+    /// A segmenter failed on a view or returned an unusable label map.
+    #[error("segmenting view {view}: {message}")]
+    Segmentation {
+        /// Index of the view.
+        view: usize,
+        /// What went wrong.
+        message: String,
+    },
     /// A geometric computation failed.
     #[error(transparent)]
     Geometry(#[from] uniphys_geometry::GeometryError),

@@ -6,7 +6,8 @@
 //! - [`segment`]: a [`Segmenter`] gives a label map per view (built-in render-space segmenter,
 //!   or a SAM-compatible service), and overlapping masks become label maps;
 //! - [`lift`] and [`consensus`]: labels lifted to faces by pixel majority per view, then merged
-//!   across views; [`prior`] estimates the part-count prior K;
+//!   across views; [`prior`] estimates the part-count prior K; [`perception`] runs these
+//!   ([`perceive`]);
 //! - [`candidates`]: a [`CandidateGenerator`] gives decompositions for K in a range (built-in
 //!   geometric clustering, or per-face features from a PartField-compatible service);
 //! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
@@ -22,6 +23,7 @@ mod error;
 pub mod hungarian;
 pub mod lift;
 pub mod output;
+pub mod perception;
 pub mod prior;
 pub mod refine;
 pub mod segment;
@@ -30,3 +32,8 @@ pub mod small_parts;
 pub mod views;
 
 pub use error::{DecomposeError, DecomposeResult};
+pub use lift::FaceSet;
+pub use perception::{Perception, PerceptionOptions, perceive};
+pub use prior::k_range;
+pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
+pub use views::{ViewOptions, ViewSet, face_colours, render_views};

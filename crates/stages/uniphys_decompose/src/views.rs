@@ -1,1 +1,320 @@
-//! (being written)
+//! Multi-view renders of the merged mesh (reference §2): per view the visible face, depth and
+//! normal of every pixel, and a shaded colour image, from cameras around the object.
+
+use uniphys_geometry::{MeshAsset, TriMesh};
+use uniphys_render::{Camera, FaceIdImage, RgbaImage, orbit_cameras, render_face_ids, shade};
+
+use crate::{DecomposeError, DecomposeResult};
+
+/// Largest accepted image side, pixels.
+pub const MAX_RESOLUTION_PX: u32 = 4096;
+/// Most views accepted.
+pub const MAX_VIEW_COUNT: usize = 64;
+
+/// How many views and how large.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ViewOptions {
+    /// Number of cameras (default 8, the reference rig).
+    pub count: usize,
+    /// Width and height of every image in pixels (default 512).
+    pub resolution_px: u32,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self {
+            count: 8,
+            resolution_px: 512,
+        }
+    }
+}
+
+/// The rendered views, index `k` of every vector belonging to view `k`.
+#[derive(Debug, Clone)]
+pub struct ViewSet {
+    /// The cameras.
+    pub cameras: Vec<Camera>,
+    /// Face, depth and normal per pixel.
+    pub face_ids: Vec<FaceIdImage>,
+    /// Lambert-shaded colour images with a transparent background.
+    pub colour: Vec<RgbaImage>,
+}
+
+/// Renders `options.count` views of `mesh` from [`orbit_cameras`] around its bounds, each face
+/// coloured `face_rgba[face]`. Deterministic.
+pub fn render_views(
+    mesh: &TriMesh,
+    face_rgba: &[[u8; 4]],
+    options: &ViewOptions,
+) -> DecomposeResult<ViewSet> {
+    let faces = mesh.triangle_count();
+    if faces == 0 {
+        return Err(DecomposeError::InvalidInput("the mesh has no faces".into()));
+    }
+    if face_rgba.len() != faces {
+        return Err(DecomposeError::InvalidInput(format!(
+            "{} face colours for {faces} faces",
+            face_rgba.len()
+        )));
+    }
+    if options.count == 0 || options.count > MAX_VIEW_COUNT {
+        return Err(DecomposeError::InvalidOption(format!(
+            "view count {} (1 to {MAX_VIEW_COUNT})",
+            options.count
+        )));
+    }
+    if options.resolution_px < 8 || options.resolution_px > MAX_RESOLUTION_PX {
+        return Err(DecomposeError::InvalidOption(format!(
+            "view resolution {} px (8 to {MAX_RESOLUTION_PX})",
+            options.resolution_px
+        )));
+    }
+    let side = options.resolution_px;
+    let cameras = orbit_cameras(&mesh.bounds(), options.count, side, side);
+    let face_ids: Vec<FaceIdImage> = cameras
+        .iter()
+        .map(|camera| render_face_ids(mesh, camera))
+        .collect();
+    let colour_of = |face: usize| face_rgba.get(face).copied().unwrap_or([0, 0, 0, 0]);
+    let colour = face_ids
+        .iter()
+        .zip(&cameras)
+        .map(|(image, camera)| shade(image, camera, &colour_of))
+        .collect();
+    Ok(ViewSet {
+        cameras,
+        face_ids,
+        colour,
+    })
+}
+
+/// Per-face colour of an asset's merged mesh (same face order as [`MeshAsset::merged`]): the
+/// material's base colour x the base-colour texture at the face's UV centroid x the mean of the
+/// face's vertex colours, multiplied in linear space and returned as sRGB bytes with alpha.
+/// Faces without a material use white.
+#[must_use]
+pub fn face_colours(asset: &MeshAsset) -> Vec<[u8; 4]> {
+    let mut out = Vec::with_capacity(asset.triangle_count());
+    for part in &asset.parts {
+        let mesh = &part.mesh;
+        for (face, tri) in mesh.triangles.iter().enumerate() {
+            let corners = tri.map(|v| v as usize);
+            let mut linear = [1.0f32; 4];
+            let mut multiply = |rgba: [f32; 4]| {
+                for (l, x) in linear.iter_mut().zip(rgba) {
+                    *l *= x;
+                }
+            };
+            let material = mesh
+                .face_materials
+                .as_ref()
+                .and_then(|m| m.get(face))
+                .and_then(|&m| asset.materials.get(m as usize));
+            if let Some(material) = material {
+                multiply(material.base_color_rgba);
+                let texture = material
+                    .base_color_texture
+                    .and_then(|t| asset.textures.get(t));
+                if let (Some(texture), Some(uvs)) = (texture, &mesh.uvs) {
+                    let centroid = [0, 1].map(|k| {
+                        corners
+                            .iter()
+                            .map(|&v| uvs.get(v).map_or(0.0, |uv| uv[k]))
+                            .sum::<f32>()
+                            / 3.0
+                    });
+                    if let Some(texel) = texel_rgba8(texture, centroid) {
+                        let [r, g, b, a] = texel;
+                        multiply([
+                            srgb8_to_linear(r),
+                            srgb8_to_linear(g),
+                            srgb8_to_linear(b),
+                            f32::from(a) / 255.0,
+                        ]);
+                    }
+                }
+            }
+            if let Some(colors) = &mesh.vertex_colors {
+                multiply([0, 1, 2, 3].map(|k| {
+                    corners
+                        .iter()
+                        .map(|&v| colors.get(v).map_or(1.0, |c| c[k]))
+                        .sum::<f32>()
+                        / 3.0
+                }));
+            }
+            let [r, g, b, a] = linear;
+            out.push([
+                linear_to_srgb8(r),
+                linear_to_srgb8(g),
+                linear_to_srgb8(b),
+                (a.clamp(0.0, 1.0) * 255.0).round() as u8,
+            ]);
+        }
+    }
+    out
+}
+
+/// Material index of every face of an asset's merged mesh (same order as
+/// [`MeshAsset::merged`]); faces without one get `u32::MAX`.
+#[must_use]
+pub fn face_material_ids(asset: &MeshAsset) -> Vec<u32> {
+    asset
+        .parts
+        .iter()
+        .flat_map(|part| {
+            let count = part.mesh.triangle_count();
+            (0..count).map(move |face| {
+                part.mesh
+                    .face_materials
+                    .as_ref()
+                    .and_then(|m| m.get(face).copied())
+                    .unwrap_or(u32::MAX)
+            })
+        })
+        .collect()
+}
+
+/// The texel under `uv` (v = 0 is the top row), nearest pixel, repeating outside [0, 1).
+fn texel_rgba8(texture: &uniphys_geometry::Texture, uv: [f32; 2]) -> Option<[u8; 4]> {
+    let (w, h) = (texture.width as usize, texture.height as usize);
+    if w == 0 || h == 0 || texture.rgba8.len() < w * h * 4 || !uv.iter().all(|c| c.is_finite()) {
+        return None;
+    }
+    let wrap = |c: f32, n: usize| {
+        let c = f64::from(c);
+        (((c - c.floor()) * n as f64) as usize).min(n - 1)
+    };
+    let at = (wrap(uv[1], h) * w + wrap(uv[0], w)) * 4;
+    let px = texture.rgba8.get(at..at + 4)?;
+    Some([px[0], px[1], px[2], px[3]])
+}
+
+fn srgb8_to_linear(srgb: u8) -> f32 {
+    let c = f64::from(srgb) / 255.0;
+    let linear = if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    };
+    linear as f32
+}
+
+fn linear_to_srgb8(linear: f32) -> u8 {
+    let c = f64::from(linear).clamp(0.0, 1.0);
+    let encoded = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (encoded * 255.0).round().clamp(0.0, 255.0) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use uniphys_geometry::{DVec3, MeshPart, SurfaceMaterial, Texture};
+
+    use super::*;
+
+    #[test]
+    fn face_colours_multiply_material_texture_and_vertex_colours() {
+        // Part 0: material 0 (half-grey base colour) with a 2 x 1 texture, red left, blue right;
+        // its faces' UV centroids fall on the left. Part 1: no material, white vertex colours
+        // except one green-tinted vertex.
+        let cube = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let n = cube.positions.len();
+        let textured = cube
+            .clone()
+            .with_uvs(vec![[0.25, 0.5]; n])
+            .and_then(|m| m.with_face_materials(vec![0; 12]));
+        let tinted = cube.with_vertex_colors(
+            (0..n)
+                .map(|v| {
+                    if v == 0 {
+                        [0.0, 1.0, 0.0, 1.0]
+                    } else {
+                        [1.0; 4]
+                    }
+                })
+                .collect(),
+        );
+        let (Ok(textured), Ok(tinted)) = (textured, tinted) else {
+            panic!("valid attributes");
+        };
+        let asset = MeshAsset {
+            parts: vec![
+                MeshPart {
+                    name: "a".into(),
+                    mesh: textured,
+                },
+                MeshPart {
+                    name: "b".into(),
+                    mesh: tinted,
+                },
+            ],
+            materials: vec![SurfaceMaterial {
+                name: "grey".into(),
+                base_color_rgba: [0.5, 0.5, 0.5, 1.0],
+                base_color_texture: Some(0),
+            }],
+            textures: vec![Texture {
+                name: "t".into(),
+                width: 2,
+                height: 1,
+                rgba8: vec![255, 0, 0, 255, 0, 0, 255, 255],
+            }],
+            joints: vec![],
+        };
+        let colours = face_colours(&asset);
+        assert_eq!(colours.len(), 24);
+        // Linear 0.5 red is sRGB 188.
+        assert_eq!(colours[0], [188, 0, 0, 255]);
+        // Face 0 of the cube uses vertex 0: red and blue drop to 2/3 (sRGB 213), green stays.
+        assert_eq!(colours[12], [213, 255, 213, 255]);
+        // Face 2 (+z) does not touch vertex 0.
+        assert_eq!(colours[14], [255, 255, 255, 255]);
+        let ids = face_material_ids(&asset);
+        assert_eq!((ids[0], ids[12]), (0, u32::MAX));
+    }
+
+    #[test]
+    fn views_are_rendered_at_the_requested_size_and_invalid_options_refused() {
+        let mesh = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let rgba = vec![[200, 100, 50, 255]; 12];
+        let options = ViewOptions {
+            count: 3,
+            resolution_px: 32,
+        };
+        let Ok(views) = render_views(&mesh, &rgba, &options) else {
+            panic!("renders");
+        };
+        assert_eq!(
+            (
+                views.cameras.len(),
+                views.face_ids.len(),
+                views.colour.len()
+            ),
+            (3, 3, 3)
+        );
+        for (ids, colour) in views.face_ids.iter().zip(&views.colour) {
+            assert_eq!((ids.width_px, ids.height_px), (32, 32));
+            assert!(ids.covered_pixels() > 32);
+            // Colour is opaque exactly where a face is visible.
+            for (face, px) in ids.face.iter().zip(&colour.pixels) {
+                assert_eq!(*face > 0, px[3] > 0);
+            }
+        }
+        let bad = ViewOptions {
+            count: 0,
+            ..options
+        };
+        assert!(matches!(
+            render_views(&mesh, &rgba, &bad),
+            Err(DecomposeError::InvalidOption(_))
+        ));
+        assert!(matches!(
+            render_views(&mesh, &rgba[..5], &options),
+            Err(DecomposeError::InvalidInput(_))
+        ));
+    }
+}

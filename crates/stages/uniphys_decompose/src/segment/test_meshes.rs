@@ -1,0 +1,56 @@
+//! Small meshes shared by the perception tests.
+
+use uniphys_geometry::{DVec3, TriMesh};
+
+/// Faces of one cuboid made by [`TriMesh::cuboid`].
+pub(crate) const CUBOID_FACES: usize = 12;
+
+/// A 1 x 1 x 0.6 m box (faces 0..12) with a thinner, inset 0.7 x 0.7 x 0.1 m lid on top (faces
+/// 12..24).
+pub(crate) fn box_with_inset_lid() -> TriMesh {
+    let body = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.6));
+    let lid = TriMesh::cuboid(DVec3::new(0.15, 0.15, 0.6), DVec3::new(0.85, 0.85, 0.7));
+    TriMesh::merge([&body, &lid])
+}
+
+/// A 1 x 1 x 0.6 m box (faces 0..12) with a lid of the same footprint, 0.15 m thick, flush with
+/// its sides (faces 12..24).
+pub(crate) fn box_with_flush_lid() -> TriMesh {
+    let body = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.6));
+    let lid = TriMesh::cuboid(DVec3::new(0.0, 0.0, 0.6), DVec3::new(1.0, 1.0, 0.75));
+    TriMesh::merge([&body, &lid])
+}
+
+/// One closed L-shaped solid: the profile (x, z) = (0,0) (1,0) (1,0.3) (0.3,0.3) (0.3,1) (0,1)
+/// extruded along y from 0 to 0.8 m. Its inner corner is a concave crease.
+pub(crate) fn l_shaped_solid() -> TriMesh {
+    let profile = [
+        (0.0, 0.0),
+        (1.0, 0.0),
+        (1.0, 0.3),
+        (0.3, 0.3),
+        (0.3, 1.0),
+        (0.0, 1.0),
+    ];
+    let mut positions: Vec<DVec3> = profile
+        .iter()
+        .map(|&(x, z)| DVec3::new(x, 0.0, z))
+        .collect();
+    positions.extend(profile.iter().map(|&(x, z)| DVec3::new(x, 0.8, z)));
+    // Caps: a fan from the reflex vertex 3 (the profile is star-shaped from it).
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    for (a, b) in [(4, 5), (5, 0), (0, 1), (1, 2)] {
+        triangles.push([3, b, a]);
+        triangles.push([9, a + 6, b + 6]);
+    }
+    for i in 0..6u32 {
+        let j = (i + 1) % 6;
+        triangles.push([i, j, j + 6]);
+        triangles.push([i, j + 6, i + 6]);
+    }
+    TriMesh {
+        positions,
+        triangles,
+        ..TriMesh::default()
+    }
+}
