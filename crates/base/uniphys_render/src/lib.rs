@@ -9,12 +9,15 @@
 //! - [`RgbaImage`], [`shade`] (Lambert), [`hstack`]/[`vstack`], [`draw`] (lines, discs,
 //!   arrows, rectangles, 5x7 text), [`encode_png`]/[`decode_png`].
 //!
+//! - [`lvlm_views`]: the part composites and the candidate-axis and pivot views for the LVLM.
+//!
 //! World coordinates are metres (Z up); image x grows to the right and y downwards.
 
 mod camera;
 pub mod draw;
 mod error;
 mod face_ids;
+pub mod lvlm_views;
 mod png_io;
 mod raster;
 mod rgba;
@@ -24,6 +27,10 @@ mod shade;
 pub use camera::{Camera, DEFAULT_FOV_Y_RAD, NEAR_FRACTION, Projected};
 pub use error::{RenderError, RenderResult};
 pub use face_ids::{FaceIdImage, render_face_ids};
+pub use lvlm_views::{
+    AXIS_COLOURS, PIVOT_COLOURS, PartScene, ViewOptions, axis_candidate_views, part_composite,
+    pivot_candidate_views,
+};
 pub use png_io::{decode_png, encode_png};
 pub use rgba::{RgbaImage, hstack, over, vstack};
 pub use rig::{REFERENCE_RIG_DIRECTIONS, camera_from_direction, orbit_cameras, orbit_directions};
