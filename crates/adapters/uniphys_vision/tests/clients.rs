@@ -127,6 +127,7 @@ fn retryable_failures_are_retried_until_an_answer() {
         "sam_429_then_ok.json",
         "sam_500_then_ok.json",
         "sam_truncated_then_ok.json",
+        "sam_closed_then_ok.json",
         "sam_malformed_then_ok.json",
     ] {
         let server = serve(name);

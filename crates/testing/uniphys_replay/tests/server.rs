@@ -274,13 +274,24 @@ fn chunked_and_large_bodies_arrive_whole() {
 }
 
 #[test]
-fn max_in_flight_counts_concurrent_delayed_answers() {
-    let server = ReplayServer::start_with(Arc::new(|_: &RecordedRequest| {
-        Reply::text(200, "late").with_delay_ms(300)
+fn max_in_flight_counts_32_concurrent_answers() {
+    // The responder holds every request until all 32 have arrived (or 20 s passed), so 32
+    // connections are being answered at once.
+    let arrived = Arc::new((std::sync::Mutex::new(0usize), std::sync::Condvar::new()));
+    let gate = Arc::clone(&arrived);
+    let server = ReplayServer::start_with(Arc::new(move |_: &RecordedRequest| {
+        let (count, all_in) = &*gate;
+        let mut count = count.lock().unwrap();
+        *count += 1;
+        all_in.notify_all();
+        let (count, _) = all_in
+            .wait_timeout_while(count, Duration::from_secs(20), |n| *n < 32)
+            .unwrap();
+        Reply::text(200, count.to_string())
     }))
     .unwrap();
     let url = server.url();
-    let clients: Vec<_> = (0..4)
+    let clients: Vec<_> = (0..32)
         .map(|_| {
             let url = url.clone();
             std::thread::spawn(move || {
@@ -296,10 +307,31 @@ fn max_in_flight_counts_concurrent_delayed_answers() {
         })
         .collect();
     for client in clients {
-        assert_eq!(client.join().unwrap(), "late");
+        assert_eq!(client.join().unwrap(), "32");
     }
-    assert_eq!(server.max_in_flight(), 4);
-    assert_eq!(server.connection_count(), 4);
+    assert_eq!(server.requests().len(), 32);
+    assert_eq!(server.connection_count(), 32);
+    assert_eq!(server.max_in_flight(), 32);
+}
+
+#[test]
+fn delays_hold_the_answer_and_stop_cuts_them_short() {
+    let server = ReplayServer::start_with(Arc::new(|_: &RecordedRequest| {
+        Reply::text(200, "late").with_delay_ms(60_000)
+    }))
+    .unwrap();
+    let mut stream = connect(&server);
+    stream.write_all(post("/d", "x").as_bytes()).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while server.requests().is_empty() && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(server.max_in_flight(), 1);
+    // Stopping does not wait out the minute: the connection closes without an answer.
+    server.stop();
+    let mut rest = Vec::new();
+    let read = stream.read_to_end(&mut rest).unwrap_or(0);
+    assert_eq!(read, 0);
 }
 
 #[test]
