@@ -233,6 +233,8 @@ fn accept_loop(listener: &TcpListener, shared: &Arc<Shared>) {
             return;
         }
         let Ok(stream) = stream else {
+            // Out of descriptors or a connection reset before accept: do not spin.
+            std::thread::sleep(Duration::from_millis(10));
             continue;
         };
         let Ok(registered) = stream.try_clone() else {
