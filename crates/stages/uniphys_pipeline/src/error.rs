@@ -31,6 +31,12 @@ pub enum PipelineError {
     /// The UniPhysGen model server could not be used or gave an unusable answer.
     #[error(transparent)]
     Model(#[from] uniphys_uniphysgen::UniPhysGenError),
+    /// The LVLM grounding stage failed (answers invalid after repair, too many parts).
+    #[error(transparent)]
+    Annotate(#[from] uniphys_annotate::AnnotateError),
+    /// The LVLM client could not be set up (configuration, cache directory).
+    #[error(transparent)]
+    Lvlm(#[from] uniphys_lvlm::LvlmError),
     /// The input has nothing to process.
     #[error("{0}")]
     Empty(String),

@@ -1,12 +1,13 @@
 //! The in-process UniPhys pipeline for one asset, needing no servers: ingest, prepare (frame and
 //! mass properties), colliders (convex decomposition), ground (built-in grounder, optionally a
-//! UniPhysGen model server), verify (intrinsic checks, articulation sweeps with correction) and
+//! UniPhysGen model server or an LVLM), verify (intrinsic checks, articulation sweeps with correction) and
 //! export.
 //! The job-queue workers run the same stage functions; `uniphys run` calls [`run`].
 
 mod colors;
 mod error;
 mod learned;
+mod lvlm;
 mod parallel;
 mod progress;
 mod run;
@@ -14,6 +15,7 @@ mod verify;
 
 pub use error::{PipelineError, PipelineResult};
 pub use learned::LearnedOptions;
+pub use lvlm::LvlmOptions;
 pub use progress::{NoProgress, Progress, Stage};
 pub use run::{RunOptions, RunOutput, asset_name, run};
 pub use verify::VerifyOptions;

@@ -22,6 +22,7 @@ use uniphys_types::{
 
 use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
+use crate::lvlm::{LvlmOptions, ground_lvlm};
 use crate::parallel::par_map;
 use crate::verify::{VerifyOptions, verify};
 use crate::{PipelineError, PipelineResult, Progress, Stage};
@@ -39,6 +40,9 @@ pub struct RunOptions {
     pub touching_fraction: f64,
     /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
     pub learned: Option<LearnedOptions>,
+    /// Ground with an LVLM (properties, motion graph, joints chosen among candidates) after the
+    /// built-in grounder; its values replace the estimates.
+    pub lvlm: Option<LvlmOptions>,
     /// Verification parameters.
     pub verify: VerifyOptions,
 }
@@ -51,6 +55,7 @@ impl Default for RunOptions {
             convex: ConvexParams::default(),
             touching_fraction: 0.005,
             learned: None,
+            lvlm: None,
             verify: VerifyOptions::default(),
         }
     }
@@ -200,6 +205,15 @@ pub fn run(
                 &colliders,
                 &mut record,
                 learned,
+            )?);
+        }
+        if let Some(lvlm) = &options.lvlm {
+            notes.extend(ground_lvlm(
+                &asset,
+                &prepared,
+                &colliders,
+                &mut record,
+                lvlm,
             )?);
         }
         let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
