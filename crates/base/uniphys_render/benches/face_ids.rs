@@ -1,16 +1,16 @@
 //! Face-ID rendering time: `cargo bench -p uniphys_render --bench face_ids`.
 //!
 //! Prints one row per case: triangles, resolution, median milliseconds per view over the 8 views
-//! of the reference rig (release profile, one thread), and the ratio to the baselines measured in
-//! the same run:
-//! - the floor: allocating and clearing the buffers of one 512x512 view and writing its outputs
-//!   (no triangles);
+//! of the reference rig (release profile, one thread; fresh images with `render_face_ids`, and
+//! reused buffers with `render_face_ids_into`), and the ratio to the baselines measured in the
+//! same run:
+//! - the floor: allocating and filling the output buffers of one 512x512 view (no triangles);
 //! - the naive renderer on a small case: for every pixel, test every triangle.
 
 use std::time::Instant;
 
 use uniphys_geometry::{DVec3, TriMesh};
-use uniphys_render::{Camera, FaceIdImage, orbit_cameras, render_face_ids};
+use uniphys_render::{Camera, FaceIdImage, orbit_cameras, render_face_ids, render_face_ids_into};
 
 /// A closed UV sphere of radius 1 m with about `2 * rings * segments` triangles, slightly
 /// squashed and bumped so views differ.
@@ -58,16 +58,23 @@ fn median_ms(runs: usize, mut f: impl FnMut()) -> f64 {
     times[times.len() / 2]
 }
 
-/// Median time per view over the 8 rig views.
-fn per_view_ms(mesh: &TriMesh, size_px: u32, runs: usize) -> (f64, usize) {
+/// Median time per view over the 8 rig views: fresh images, and one image's buffers reused.
+fn per_view_ms(mesh: &TriMesh, size_px: u32, runs: usize) -> (f64, f64, usize) {
     let cams = orbit_cameras(&mesh.bounds(), 8, size_px, size_px);
     let mut covered = 0;
-    let ms = median_ms(runs, || {
+    let fresh = median_ms(runs, || {
         for cam in &cams {
             covered = std::hint::black_box(render_face_ids(mesh, cam)).covered_pixels();
         }
     }) / cams.len() as f64;
-    (ms, covered)
+    let mut image = render_face_ids(mesh, &cams[0]);
+    let reused = median_ms(runs, || {
+        for cam in &cams {
+            render_face_ids_into(mesh, cam, &mut image);
+            std::hint::black_box(&image);
+        }
+    }) / cams.len() as f64;
+    (fresh, reused, covered)
 }
 
 /// The floor: one view's buffers allocated, cleared and converted, no triangles.
@@ -150,16 +157,19 @@ fn main() {
         100.0 * agree
     );
     println!();
-    println!("| triangles | resolution | ms per view | x floor | covered px |");
-    println!("|---:|---:|---:|---:|---:|");
+    println!(
+        "| triangles | resolution | ms per view | x floor | ms per view, buffers reused | x floor | covered px |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
     for (rings, segments) in [(50, 100), (158, 316), (224, 448)] {
         let mesh = sphere(rings, segments);
         for size in [256u32, 512, 800] {
-            let (ms, covered) = per_view_ms(&mesh, size, 5);
+            let (fresh, reused, covered) = per_view_ms(&mesh, size, 7);
             println!(
-                "| {} | {size}x{size} | {ms:.2} | {:.1} | {covered} |",
+                "| {} | {size}x{size} | {fresh:.2} | {:.1} | {reused:.2} | {:.1} | {covered} |",
                 mesh.triangle_count(),
-                ms / floor
+                fresh / floor,
+                reused / floor
             );
         }
     }

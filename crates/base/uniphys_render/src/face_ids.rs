@@ -56,6 +56,20 @@ impl FaceIdImage {
 /// an index that does not fit `u32::MAX - 1` are ignored.
 #[must_use]
 pub fn render_face_ids(mesh: &TriMesh, camera: &Camera) -> FaceIdImage {
+    let mut image = FaceIdImage {
+        width_px: 0,
+        height_px: 0,
+        face: Vec::new(),
+        depth_m: Vec::new(),
+        normal_world: Vec::new(),
+    };
+    render_face_ids_into(mesh, camera, &mut image);
+    image
+}
+
+/// [`render_face_ids`] into an existing image, reusing its buffers (resized to the camera's
+/// image): the same result without allocating when rendering many views of one size.
+pub fn render_face_ids_into(mesh: &TriMesh, camera: &Camera, image: &mut FaceIdImage) {
     let width = camera.width_px as usize;
     let height = camera.height_px as usize;
     let pixel_count = width * height;
@@ -70,14 +84,17 @@ pub fn render_face_ids(mesh: &TriMesh, camera: &Camera) -> FaceIdImage {
         .map(|&p| ScreenVertex::project(&view, p))
         .collect();
 
-    // Inverse view depth: 0 is background (infinitely far), larger is nearer.
-    let mut inv_depth = vec![0.0f64; pixel_count];
-    let mut face = vec![0u32; pixel_count];
+    image.width_px = camera.width_px;
+    image.height_px = camera.height_px;
+    // The depth buffer holds the inverse view depth while rasterising (0 is background,
+    // larger is nearer) and is turned into depth afterwards.
+    reset(&mut image.depth_m, pixel_count, 0.0);
+    reset(&mut image.face, pixel_count, 0);
     let mut target = crate::raster::Target {
         width_px: width,
         height_px: height,
-        inv_depth: &mut inv_depth,
-        face: &mut face,
+        inv_depth: &mut image.depth_m,
+        face: &mut image.face,
     };
     for (i, tri) in mesh.triangles.iter().enumerate() {
         let Some(id) = u32::try_from(i).ok().and_then(|i| i.checked_add(1)) else {
@@ -110,15 +127,20 @@ pub fn render_face_ids(mesh: &TriMesh, camera: &Camera) -> FaceIdImage {
         }
     }
 
-    let mut depth_m = vec![f32::INFINITY; pixel_count];
-    let mut normal_world = vec![[0.0f32; 3]; pixel_count];
+    reset(&mut image.normal_world, pixel_count, [0.0; 3]);
     let mut cached: Option<(u32, [f32; 3])> = None;
-    for (k, &id) in face.iter().enumerate() {
+    for ((&id, depth), normal) in image
+        .face
+        .iter()
+        .zip(image.depth_m.iter_mut())
+        .zip(image.normal_world.iter_mut())
+    {
         if id == 0 {
+            *depth = f32::INFINITY;
             continue;
         }
-        depth_m[k] = (1.0 / inv_depth[k]) as f32;
-        let n = match cached {
+        *depth = 1.0 / *depth;
+        *normal = match cached {
             Some((cached_id, n)) if cached_id == id => n,
             _ => {
                 let n = facing_normal(mesh, id as usize - 1, camera.eye_m);
@@ -126,15 +148,13 @@ pub fn render_face_ids(mesh: &TriMesh, camera: &Camera) -> FaceIdImage {
                 n
             }
         };
-        normal_world[k] = n;
     }
-    FaceIdImage {
-        width_px: camera.width_px,
-        height_px: camera.height_px,
-        face,
-        depth_m,
-        normal_world,
-    }
+}
+
+/// `buffer` with `len` copies of `value`, keeping its allocation.
+fn reset<T: Copy>(buffer: &mut Vec<T>, len: usize, value: T) {
+    buffer.clear();
+    buffer.resize(len, value);
 }
 
 /// The unit normal of triangle `i` turned toward `eye_m`.

@@ -26,7 +26,7 @@ mod shade;
 
 pub use camera::{Camera, DEFAULT_FOV_Y_RAD, NEAR_FRACTION, Projected};
 pub use error::{RenderError, RenderResult};
-pub use face_ids::{FaceIdImage, render_face_ids};
+pub use face_ids::{FaceIdImage, render_face_ids, render_face_ids_into};
 pub use lvlm_views::{
     AXIS_COLOURS, PIVOT_COLOURS, PartScene, ViewOptions, axis_candidate_views, part_composite,
     pivot_candidate_views,

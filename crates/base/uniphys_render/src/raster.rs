@@ -30,7 +30,7 @@ pub(crate) struct Target<'a> {
     pub(crate) width_px: usize,
     pub(crate) height_px: usize,
     /// Inverse view depth per pixel, 0 on background.
-    pub(crate) inv_depth: &'a mut [f64],
+    pub(crate) inv_depth: &'a mut [f32],
     /// Face id per pixel, 0 on background.
     pub(crate) face: &'a mut [u32],
 }
@@ -90,12 +90,14 @@ pub(crate) fn rasterise_triangle(target: &mut Target<'_>, v: [ScreenVertex; 3], 
     let min_y = v[0].y.min(v[1].y).min(v[2].y);
     let max_y = v[0].y.max(v[1].y).max(v[2].y);
     // Pixel i is covered when its centre i + 0.5 is inside: i in [ceil(min - 0.5), floor(max - 0.5)].
-    let x0 = (min_x - 0.5).ceil().max(0.0);
-    let y0 = (min_y - 0.5).ceil().max(0.0);
-    let x1 = (max_x - 0.5).floor().min(target.width_px as f64 - 1.0);
-    let y1 = (max_y - 0.5).floor().min(target.height_px as f64 - 1.0);
-    // Also rejects NaN coordinates (every comparison with NaN is false).
-    if !(x0 <= x1 && y0 <= y1) {
+    if !(min_x.is_finite() && max_x.is_finite() && min_y.is_finite() && max_y.is_finite()) {
+        return;
+    }
+    let x0 = ceil(min_x - 0.5).max(0.0);
+    let y0 = ceil(min_y - 0.5).max(0.0);
+    let x1 = floor(max_x - 0.5).min(target.width_px as f64 - 1.0);
+    let y1 = floor(max_y - 0.5).min(target.height_px as f64 - 1.0);
+    if x0 > x1 || y0 > y1 {
         return;
     }
     let mut e = [
@@ -134,12 +136,52 @@ pub(crate) fn rasterise_triangle(target: &mut Target<'_>, v: [ScreenVertex; 3], 
             if !(e[0].covers(w0) && e[1].covers(w1) && e[2].covers(w2)) {
                 continue;
             }
-            let inv_z = w0 * z0 + w1 * z1 + w2 * z2;
+            let inv_z = (w0 * z0 + w1 * z1 + w2 * z2) as f32;
             let k = row_start + x;
             if inv_z > target.inv_depth[k] {
                 target.inv_depth[k] = inv_z;
                 target.face[k] = id;
             }
+        }
+    }
+}
+
+/// `v.ceil()` for finite `v` without a libm call (baseline x86-64 has no rounding instruction);
+/// values beyond the `i64` range saturate, which the callers clamp to the image anyway.
+#[inline]
+fn ceil(v: f64) -> f64 {
+    let t = v as i64 as f64;
+    if t < v { t + 1.0 } else { t }
+}
+
+/// `v.floor()` for finite `v`, as [`ceil`].
+#[inline]
+fn floor(v: f64) -> f64 {
+    let t = v as i64 as f64;
+    if t > v { t - 1.0 } else { t }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_rounding_matches_the_standard_library() {
+        for v in [
+            -3.5,
+            -3.0,
+            -2.999,
+            -0.5,
+            -0.0,
+            0.0,
+            0.25,
+            1.0,
+            1.5,
+            1e6 + 0.5,
+            511.5,
+        ] {
+            assert_eq!(ceil(v), v.ceil(), "ceil {v}");
+            assert_eq!(floor(v), v.floor(), "floor {v}");
         }
     }
 }

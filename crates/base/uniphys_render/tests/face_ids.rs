@@ -3,7 +3,7 @@
 use uniphys_geometry::{Aabb, DVec3, TriMesh};
 use uniphys_render::{
     Camera, DEFAULT_FOV_Y_RAD, REFERENCE_RIG_DIRECTIONS, camera_from_direction, decode_png,
-    encode_png, orbit_cameras, render_face_ids, shade,
+    encode_png, orbit_cameras, render_face_ids, render_face_ids_into, shade,
 };
 
 fn unit_cube() -> TriMesh {
@@ -346,10 +346,17 @@ fn rendering_is_deterministic_and_the_png_round_trips() {
     ]);
     let cams = orbit_cameras(&mesh.bounds(), 8, 48, 36);
     let palette = |f: usize| [(f * 37 % 256) as u8, (f * 91 % 256) as u8, 200, 255];
+    // Reused buffers start from another size and another scene.
+    let mut reused = render_face_ids(
+        &TriMesh::cuboid(DVec3::ZERO, DVec3::ONE),
+        &orbit_cameras(&mesh.bounds(), 8, 70, 20)[3],
+    );
     for cam in &cams {
         let a = render_face_ids(&mesh, cam);
         let b = render_face_ids(&mesh, cam);
         assert_eq!(a, b);
+        render_face_ids_into(&mesh, cam, &mut reused);
+        assert_eq!(reused, a);
         assert!(a.covered_pixels() > 100);
         let png_a = encode_png(&shade(&a, cam, &palette)).expect("encodes");
         let png_b = encode_png(&shade(&b, cam, &palette)).expect("encodes");
