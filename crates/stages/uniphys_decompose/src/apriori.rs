@@ -73,14 +73,20 @@ pub fn merge_parts(
     }
     if parts > options.max_parts {
         let merged = normal_merge(face_part, parts, merged_masks, face_area_m2, options);
-        return finish(face_part, &merged, format!("normal merge selected for {parts} parts"), 0);
+        return finish(
+            face_part,
+            &merged,
+            format!("normal merge selected for {parts} parts"),
+            0,
+        );
     }
     let transactions: Vec<Vec<u32>> = per_view
         .iter()
         .flat_map(|masks| assigned_parts(face_part, parts, masks, face_area_m2, options))
         .filter(|t| !t.is_empty())
         .collect();
-    let Some(itemsets) = frequent_itemsets(&transactions, options.min_support, options.itemset_budget)
+    let Some(itemsets) =
+        frequent_itemsets(&transactions, options.min_support, options.itemset_budget)
     else {
         let merged = normal_merge(face_part, parts, merged_masks, face_area_m2, options);
         return finish(
@@ -106,10 +112,20 @@ pub fn merge_parts(
             next += 1;
         }
     }
-    finish(face_part, &group_of, "apriori merge".to_owned(), transactions.len())
+    finish(
+        face_part,
+        &group_of,
+        "apriori merge".to_owned(),
+        transactions.len(),
+    )
 }
 
-fn finish(face_part: &[u32], new_of_part: &[u32], strategy: String, transactions: usize) -> MergeOutcome {
+fn finish(
+    face_part: &[u32],
+    new_of_part: &[u32],
+    strategy: String,
+    transactions: usize,
+) -> MergeOutcome {
     let labels: Vec<u32> = face_part.iter().map(|&p| new_of_part[p as usize]).collect();
     let (face_part, part_count) = relabel_by_first_face(&labels);
     MergeOutcome {
@@ -267,7 +283,11 @@ fn maximal(mut itemsets: Vec<(Vec<u32>, usize)>) -> Vec<Vec<u32>> {
 
 /// One greedy pass: each unused set absorbs every later unused set that overlaps it enough;
 /// a smaller overlap is removed from the smaller-area set.
-fn greedy_groups(mut sets: Vec<Vec<u32>>, part_area: &[f64], options: &AprioriOptions) -> Vec<Vec<u32>> {
+fn greedy_groups(
+    mut sets: Vec<Vec<u32>>,
+    part_area: &[f64],
+    options: &AprioriOptions,
+) -> Vec<Vec<u32>> {
     let area = |s: &[u32]| s.iter().map(|&p| part_area[p as usize]).sum::<f64>();
     let mut used = vec![false; sets.len()];
     for i in 0..sets.len() {
@@ -278,7 +298,11 @@ fn greedy_groups(mut sets: Vec<Vec<u32>>, part_area: &[f64], options: &AprioriOp
             if used[j] {
                 continue;
             }
-            let inter: Vec<u32> = sets[i].iter().filter(|p| sets[j].binary_search(p).is_ok()).copied().collect();
+            let inter: Vec<u32> = sets[i]
+                .iter()
+                .filter(|p| sets[j].binary_search(p).is_ok())
+                .copied()
+                .collect();
             if inter.is_empty() {
                 continue;
             }
@@ -344,7 +368,13 @@ mod tests {
             vec![vec![0, 1, 2]],
             vec![vec![0, 1], vec![4, 5]],
         ];
-        let outcome = merge_parts(&face_part, &per_view, &[], &areas, &AprioriOptions::default());
+        let outcome = merge_parts(
+            &face_part,
+            &per_view,
+            &[],
+            &areas,
+            &AprioriOptions::default(),
+        );
         assert_eq!(outcome.strategy, "apriori merge");
         assert_eq!(outcome.face_part, vec![0, 0, 1, 2, 3, 4]);
         assert_eq!(outcome.part_count, 5);
@@ -354,11 +384,19 @@ mod tests {
     fn overlapping_groups_merge_by_area_without_off_by_one() {
         // Parts 0 (area 10) in both sets: inter/min = 10 / 11 > 0.5 -> merged.
         let areas = [10.0, 1.0, 1.0];
-        let groups = greedy_groups(vec![vec![0, 1], vec![0, 2]], &areas, &AprioriOptions::default());
+        let groups = greedy_groups(
+            vec![vec![0, 1], vec![0, 2]],
+            &areas,
+            &AprioriOptions::default(),
+        );
         assert_eq!(groups, vec![vec![0, 1, 2]]);
         // Small shared part 0 (area 1) between two big ones: removed from the smaller set.
         let areas = [1.0, 10.0, 8.0];
-        let groups = greedy_groups(vec![vec![0, 1], vec![0, 2]], &areas, &AprioriOptions::default());
+        let groups = greedy_groups(
+            vec![vec![0, 1], vec![0, 2]],
+            &areas,
+            &AprioriOptions::default(),
+        );
         assert_eq!(groups, vec![vec![0, 1], vec![2]]);
     }
 

@@ -1,1 +1,202 @@
-//! (being written)
+//! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
+//! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
+//! second split, small-part merge.
+
+use std::time::Instant;
+
+use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
+
+use crate::apriori::{AprioriOptions, merge_parts};
+use crate::candidates::{CandidateGenerator, CandidateRequest};
+use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepTiming};
+use crate::perception::{PerceptionOptions, perceive};
+use crate::prior::k_range;
+use crate::refine::split_disconnected;
+use crate::segment::Segmenter;
+use crate::select::select_candidate;
+use crate::small_parts::{SmallPartOptions, merge_small_parts};
+use crate::views::{face_colours, face_material_ids};
+use crate::{DecomposeError, DecomposeResult};
+
+/// Options of [`decompose`]. Lengths are fractions of the bounds diagonal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DecomposeOptions {
+    /// Views, lifting, consensus and prior (default: 8 views at 512 px).
+    pub perception: PerceptionOptions,
+    /// Candidates start this far below the prior K0 (default 3).
+    pub k_below: usize,
+    /// ... and end this far above it (default 14).
+    pub k_above: usize,
+    /// Vertices closer than this are connected in the first split (default 5e-3).
+    pub refine_eps_rel: f64,
+    /// ... and in the split after the merge (default 1e-2).
+    pub refine_again_eps_rel: f64,
+    /// In the split after the merge, a part that falls into more pieces than this stays whole
+    /// (default 5).
+    pub refine_again_keep_whole_above: usize,
+    /// The merge of parts the views show together.
+    pub apriori: AprioriOptions,
+    /// The merge of small fragments.
+    pub small_parts: SmallPartOptions,
+    /// Seed for anything random (default 0).
+    pub seed: u64,
+}
+
+impl Default for DecomposeOptions {
+    fn default() -> Self {
+        Self {
+            perception: PerceptionOptions::default(),
+            k_below: 3,
+            k_above: 14,
+            refine_eps_rel: 5e-3,
+            refine_again_eps_rel: 1e-2,
+            refine_again_keep_whole_above: 5,
+            apriori: AprioriOptions::default(),
+            small_parts: SmallPartOptions::default(),
+            seed: 0,
+        }
+    }
+}
+
+/// Decomposes `mesh` into parts. `face_rgba` has one colour per face, `face_material` one
+/// material per face or is empty. Deterministic for deterministic providers and the same seed
+/// (only the timings of the summary vary).
+pub fn decompose(
+    mesh: &TriMesh,
+    face_rgba: &[[u8; 4]],
+    face_material: &[u32],
+    segmenter: &dyn Segmenter,
+    generator: &dyn CandidateGenerator,
+    options: &DecomposeOptions,
+) -> DecomposeResult<Decomposition> {
+    let faces = mesh.triangle_count();
+    if faces == 0 {
+        return Err(DecomposeError::InvalidInput("the mesh has no faces".into()));
+    }
+    let mut timings = Vec::new();
+    let mut clock = Instant::now();
+    let mut lap = |step: &str, timings: &mut Vec<StepTiming>| {
+        timings.push(StepTiming {
+            step: step.to_owned(),
+            secs: clock.elapsed().as_secs_f64(),
+        });
+        clock = Instant::now();
+    };
+
+    let perception = perceive(
+        mesh,
+        face_rgba,
+        face_material,
+        segmenter,
+        &options.perception,
+    )?;
+    lap("perceive", &mut timings);
+
+    let materials: Vec<u32> = if face_material.len() == faces {
+        face_material.to_vec()
+    } else {
+        vec![0; faces]
+    };
+    let k_values = k_range(perception.k_prior, options.k_below, options.k_above, faces);
+    let request = CandidateRequest {
+        mesh,
+        face_rgba,
+        face_material: &materials,
+        k_values: k_values.clone(),
+        seed: options.seed,
+    };
+    let candidates = generator.candidates(&request)?;
+    lap("candidates", &mut timings);
+
+    let face_area_m2: Vec<f64> = (0..faces).map(|f| mesh.face_area(f)).collect();
+    let selection = select_candidate(&candidates, &perception.per_view, &face_area_m2)?;
+    let chosen = &candidates[selection.index];
+    lap("select", &mut timings);
+
+    let (refined, refined_parts) =
+        split_disconnected(mesh, &chosen.face_labels, options.refine_eps_rel, None);
+    lap("refine", &mut timings);
+
+    let merged = merge_parts(
+        &refined,
+        &perception.per_view,
+        &perception.merged,
+        &face_area_m2,
+        &options.apriori,
+    );
+    lap("merge", &mut timings);
+
+    let (again, refined_again_parts) = split_disconnected(
+        mesh,
+        &merged.face_part,
+        options.refine_again_eps_rel,
+        Some(options.refine_again_keep_whole_above),
+    );
+    lap("refine_again", &mut timings);
+
+    let (face_part, part_count, small_parts_merged) =
+        merge_small_parts(mesh, &again, &options.small_parts);
+    lap("small_parts", &mut timings);
+
+    let summary = DecomposeSummary {
+        faces,
+        views: perception.views.cameras.len(),
+        resolution_px: options.perception.views.resolution_px,
+        masks: perception.merged.len(),
+        k_prior: perception.k_prior,
+        k_range: [*k_values.start(), *k_values.end()],
+        candidates: selection
+            .losses
+            .iter()
+            .map(|&(k, loss)| CandidateLoss { k, loss })
+            .collect(),
+        matched_k: selection.k,
+        refined_parts,
+        merged_parts: merged.part_count,
+        refined_again_parts,
+        small_parts_merged,
+        final_parts: part_count,
+        merge_strategy: merged.strategy,
+        segmenter: perception.provider,
+        generator: generator.provider(),
+        seed: options.seed,
+        timings,
+    };
+    Ok(Decomposition {
+        face_part,
+        part_count,
+        summary,
+    })
+}
+
+/// Decomposes the merged mesh of `asset` (colours and materials from its materials, textures
+/// and vertex colours) and returns the asset with its parts replaced by the decomposed parts
+/// (`part_<i>`, materials and textures kept, declared joints dropped: they name the old parts),
+/// with the decomposition.
+pub fn decompose_asset(
+    asset: &MeshAsset,
+    segmenter: &dyn Segmenter,
+    generator: &dyn CandidateGenerator,
+    options: &DecomposeOptions,
+) -> DecomposeResult<(MeshAsset, Decomposition)> {
+    let mesh = asset.merged();
+    let colours = face_colours(asset);
+    let materials = face_material_ids(asset);
+    let decomposition = decompose(&mesh, &colours, &materials, segmenter, generator, options)?;
+    let parts = decomposition
+        .part_meshes(&mesh)
+        .into_iter()
+        .enumerate()
+        .map(|(i, part)| MeshPart {
+            name: format!("part_{i}"),
+            mesh: part,
+        })
+        .collect();
+    let decomposed = MeshAsset {
+        parts,
+        materials: asset.materials.clone(),
+        textures: asset.textures.clone(),
+        joints: Vec::new(),
+    };
+    Ok((decomposed, decomposition))
+}

@@ -21,6 +21,9 @@ pub enum DecomposeError {
         /// What went wrong.
         message: String,
     },
+    /// Writing the stage's outputs failed.
+    #[error("writing the decomposition: {0}")]
+    Output(String),
     /// A geometric computation failed.
     #[error(transparent)]
     Geometry(#[from] uniphys_geometry::GeometryError),

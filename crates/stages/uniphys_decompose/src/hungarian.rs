@@ -123,7 +123,14 @@ mod tests {
 
     /// Smallest total over every way to give each of min(rows, cols) rows a distinct column.
     fn brute_force(cost: &[f64], rows: usize, cols: usize) -> f64 {
-        fn go(cost: &[f64], rows: usize, cols: usize, i: usize, used: &mut [bool], left: usize) -> f64 {
+        fn go(
+            cost: &[f64],
+            rows: usize,
+            cols: usize,
+            i: usize,
+            used: &mut [bool],
+            left: usize,
+        ) -> f64 {
             if left == 0 {
                 return 0.0;
             }
@@ -139,7 +146,8 @@ mod tests {
             for j in 0..cols {
                 if !used[j] {
                     used[j] = true;
-                    best = best.min(cost[i * cols + j] + go(cost, rows, cols, i + 1, used, left - 1));
+                    best =
+                        best.min(cost[i * cols + j] + go(cost, rows, cols, i + 1, used, left - 1));
                     used[j] = false;
                 }
             }

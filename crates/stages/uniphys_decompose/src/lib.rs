@@ -13,7 +13,8 @@
 //! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size;
-//! - [`decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map.
+//! - [`decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
+//!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark).
 
 pub mod apriori;
 pub mod candidates;
@@ -26,14 +27,21 @@ pub mod output;
 pub mod perception;
 pub mod prior;
 pub mod refine;
+pub mod score;
 pub mod segment;
 pub mod select;
 pub mod small_parts;
 pub mod views;
 
+pub use candidates::{
+    Candidate, CandidateGenerator, CandidateRequest, GeometricGenerator, cluster_faces,
+};
+pub use decompose::{DecomposeOptions, decompose, decompose_asset};
 pub use error::{DecomposeError, DecomposeResult};
 pub use lift::FaceSet;
+pub use output::{DecomposeSummary, Decomposition};
 pub use perception::{Perception, PerceptionOptions, perceive};
 pub use prior::k_range;
+pub use score::{PartScore, score_parts};
 pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
 pub use views::{ViewOptions, ViewSet, face_colours, render_views};

@@ -57,7 +57,11 @@ pub fn split_disconnected(
         for (&f, &p) in faces.iter().zip(&pieces) {
             piece[f] = next_label + if whole { 0 } else { p };
         }
-        next_label += if whole { 1 } else { u32::try_from(count).unwrap_or(u32::MAX) };
+        next_label += if whole {
+            1
+        } else {
+            u32::try_from(count).unwrap_or(u32::MAX)
+        };
         for &w in &vertices {
             local[w as usize] = u32::MAX;
         }
@@ -68,7 +72,10 @@ pub fn split_disconnected(
 /// Unions the vertices (local indices into `vertices`) closer than `eps_m`, with a sorted grid of
 /// cell size `eps_m`.
 fn join_close(mesh: &TriMesh, vertices: &[u32], eps_m: f64, uf: &mut UnionFind) {
-    #[expect(clippy::cast_possible_truncation, reason = "grid cell of a bounded coordinate")]
+    #[expect(
+        clippy::cast_possible_truncation,
+        reason = "grid cell of a bounded coordinate"
+    )]
     let cell = |i: usize| -> [i64; 3] {
         (mesh.positions[vertices[i] as usize] / eps_m)
             .floor()
@@ -91,7 +98,10 @@ fn join_close(mesh: &TriMesh, vertices: &[u32], eps_m: f64, uf: &mut UnionFind) 
                         if k != key {
                             break;
                         }
-                        if j > i && p.distance_squared(mesh.positions[vertices[j as usize] as usize]) <= eps2 {
+                        if j > i
+                            && p.distance_squared(mesh.positions[vertices[j as usize] as usize])
+                                <= eps2
+                        {
                             uf.union(i, j);
                         }
                     }

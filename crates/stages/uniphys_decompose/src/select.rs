@@ -152,9 +152,7 @@ pub fn select_candidate(
         losses.push((candidate.k, loss));
         let better = match best {
             None => true,
-            Some((b, bl)) => {
-                loss < bl - TIE || (loss <= bl + TIE && candidate.k < candidates[b].k)
-            }
+            Some((b, bl)) => loss < bl - TIE || (loss <= bl + TIE && candidate.k < candidates[b].k),
         };
         if better {
             best = Some((index, loss));

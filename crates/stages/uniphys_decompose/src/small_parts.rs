@@ -5,6 +5,10 @@
 //! the object, when it is a small planar patch or when it is line-like. Each small part (smallest
 //! first) joins the neighbour that the largest share of its surface samples touch (exact point to
 //! triangle distances); without contact, the neighbour with the smallest box gap if it is near.
+//! A somewhat larger part (below 2 % of the area) also joins a neighbour it is clearly attached
+//! to when that neighbour is several times larger: handles and knobs go with their drawer or lid
+//! (the reference leaves that to PartField's features; a small separately moving button is the
+//! price).
 
 use uniphys_geometry::{Aabb, DVec3, TriMesh};
 
@@ -23,6 +27,13 @@ pub struct SmallPartOptions {
     pub planar_area_fraction_max: f64,
     /// Parts above this share of the area are never merged. Default 0.1.
     pub area_fraction_keep: f64,
+    /// A part below this share of the area that is attached to a much larger part (a handle on
+    /// a drawer front, a knob on a lid) joins it. Default 0.02.
+    pub attached_area_fraction_max: f64,
+    /// ... attached meaning at least this share of its samples touch that part ... Default 0.1.
+    pub attached_contact_min: f64,
+    /// ... and that part has at least this many times its area. Default 4.
+    pub attached_size_ratio: f64,
     /// Samples closer than this to a neighbour touch it. Default 0.005.
     pub contact_rel: f64,
     /// Neighbours farther (box gap) than this are not considered. Default 0.05.
@@ -36,6 +47,9 @@ impl Default for SmallPartOptions {
             extent_fraction_min: 0.03,
             planar_area_fraction_max: 0.02,
             area_fraction_keep: 0.1,
+            attached_area_fraction_max: 0.02,
+            attached_contact_min: 0.1,
+            attached_size_ratio: 4.0,
             contact_rel: 0.005,
             gap_rel: 0.05,
         }
@@ -89,7 +103,10 @@ pub fn merge_small_parts(
             || (e[0] < 1e-4 * diagonal && share < options.planar_area_fraction_max)
             || e[1] < 1e-3 * diagonal
     };
-    let mut order: Vec<usize> = (0..parts).filter(|&p| is_small(p)).collect();
+    let may_be_attached = |p: usize| area[p] < options.attached_area_fraction_max * total_area;
+    let mut order: Vec<usize> = (0..parts)
+        .filter(|&p| is_small(p) || may_be_attached(p))
+        .collect();
     order.sort_by(|&a, &b| area[a].total_cmp(&area[b]).then(a.cmp(&b)));
     let contact_m = options.contact_rel * diagonal;
     let gap_m = options.gap_rel * diagonal;
@@ -99,7 +116,10 @@ pub fn merge_small_parts(
         let samples = samples(mesh, &faces_of[p]);
         let mut best: Option<(f64, f64, usize)> = None; // (contact share, -gap, part)
         for q in 0..parts {
-            if q == p || groups.find(u32::try_from(q).unwrap_or(0)) == groups.find(u32::try_from(p).unwrap_or(0)) {
+            if q == p
+                || groups.find(u32::try_from(q).unwrap_or(0))
+                    == groups.find(u32::try_from(p).unwrap_or(0))
+            {
                 continue;
             }
             let gap = box_gap(&boxes[p], &boxes[q]);
@@ -112,7 +132,12 @@ pub fn merge_small_parts(
                 best = Some(key);
             }
         }
-        if let Some((_, _, q)) = best {
+        let Some((share, _, q)) = best else {
+            continue;
+        };
+        let attached = share >= options.attached_contact_min
+            && area[q] >= options.attached_size_ratio * area[p];
+        if is_small(p) || attached {
             groups.union(u32::try_from(p).unwrap_or(0), u32::try_from(q).unwrap_or(0));
             merged += 1;
         }
@@ -136,7 +161,13 @@ fn samples(mesh: &TriMesh, faces: &[usize]) -> Vec<DVec3> {
 
 /// Share of `samples` within `contact_m` of the faces of another part (only faces near the
 /// samples' box are tested).
-fn contact_share(mesh: &TriMesh, samples: &[DVec3], faces: &[usize], near: &Aabb, contact_m: f64) -> f64 {
+fn contact_share(
+    mesh: &TriMesh,
+    samples: &[DVec3],
+    faces: &[usize],
+    near: &Aabb,
+    contact_m: f64,
+) -> f64 {
     let grown = Aabb {
         min: near.min - DVec3::splat(contact_m),
         max: near.max + DVec3::splat(contact_m),
@@ -152,7 +183,11 @@ fn contact_share(mesh: &TriMesh, samples: &[DVec3], faces: &[usize], near: &Aabb
     let limit2 = contact_m * contact_m;
     let touching = samples
         .iter()
-        .filter(|&&s| close.iter().any(|t| closest_on_triangle(s, t).distance_squared(s) <= limit2))
+        .filter(|&&s| {
+            close
+                .iter()
+                .any(|t| closest_on_triangle(s, t).distance_squared(s) <= limit2)
+        })
         .count();
     touching as f64 / samples.len() as f64
 }
@@ -208,8 +243,14 @@ mod tests {
         let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
         let inside = closest_on_triangle(DVec3::new(0.2, 0.2, 1.0), &t);
         assert!((inside - DVec3::new(0.2, 0.2, 0.0)).length() < 1e-12);
-        assert_eq!(closest_on_triangle(DVec3::new(-1.0, -1.0, 0.0), &t), DVec3::ZERO);
-        assert_eq!(closest_on_triangle(DVec3::new(0.5, -2.0, 0.0), &t), DVec3::new(0.5, 0.0, 0.0));
+        assert_eq!(
+            closest_on_triangle(DVec3::new(-1.0, -1.0, 0.0), &t),
+            DVec3::ZERO
+        );
+        assert_eq!(
+            closest_on_triangle(DVec3::new(0.5, -2.0, 0.0), &t),
+            DVec3::new(0.5, 0.0, 0.0)
+        );
         let on_hyp = closest_on_triangle(DVec3::new(1.0, 1.0, 0.0), &t);
         assert!((on_hyp - DVec3::new(0.5, 0.5, 0.0)).length() < 1e-12);
     }
@@ -222,7 +263,8 @@ mod tests {
         let knob = TriMesh::cuboid(DVec3::new(0.48, -0.07, 0.28), DVec3::new(0.52, -0.05, 0.32));
         let mesh = TriMesh::merge([&body, &drawer, &knob]);
         let labels: Vec<u32> = (0..36).map(|f| (f / 12) as u32).collect();
-        let (merged, count, moved) = merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
+        let (merged, count, moved) =
+            merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
         assert_eq!((count, moved), (2, 1));
         let expected: Vec<u32> = (0..36).map(|f| u32::from(f >= 12)).collect();
         assert_eq!(merged, expected);
@@ -234,7 +276,8 @@ mod tests {
         let speck = TriMesh::cuboid(DVec3::splat(3.0), DVec3::splat(3.01));
         let mesh = TriMesh::merge([&body, &speck]);
         let labels: Vec<u32> = (0..24).map(|f| u32::from(f >= 12)).collect();
-        let (merged, count, moved) = merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
+        let (merged, count, moved) =
+            merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
         assert_eq!((count, moved), (2, 0));
         assert_eq!(merged, labels);
     }

@@ -17,7 +17,10 @@ pub fn welded_vertex_ids(mesh: &TriMesh) -> Vec<u32> {
     } else {
         1.0
     };
-    #[expect(clippy::cast_possible_truncation, reason = "quantised key of a bounded coordinate")]
+    #[expect(
+        clippy::cast_possible_truncation,
+        reason = "quantised key of a bounded coordinate"
+    )]
     let keys: Vec<[i64; 3]> = mesh
         .positions
         .iter()
@@ -39,6 +42,9 @@ pub fn welded_vertex_ids(mesh: &TriMesh) -> Vec<u32> {
     }
     ids
 }
+
+/// A face pair, its shared welded edge and whether the edge is manifold.
+type FoundPair = ((u32, u32), (u32, u32), bool);
 
 /// Faces that share an edge (after welding), each pair once with the smaller face first,
 /// sorted; `edges[i]` is the welded edge the pair `pairs[i]` shares.
@@ -69,7 +75,7 @@ impl FaceAdjacency {
             }
         }
         half.sort_unstable();
-        let mut found: Vec<((u32, u32), (u32, u32), bool)> = Vec::new();
+        let mut found: Vec<FoundPair> = Vec::new();
         let mut start = 0;
         for j in 1..=half.len() {
             if j == half.len() || half[j].0 != half[start].0 {

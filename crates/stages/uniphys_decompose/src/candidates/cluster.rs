@@ -65,7 +65,9 @@ pub fn cluster_regions(
         )));
     }
     if features.iter().any(|f| !f.is_finite()) {
-        return Err(DecomposeError::InvalidInput("a feature value is not finite".into()));
+        return Err(DecomposeError::InvalidInput(
+            "a feature value is not finite".into(),
+        ));
     }
     let (region_of_face, region_count) = relabel_by_first_face(regions);
     let welded = welded_vertex_ids(mesh);
@@ -149,7 +151,11 @@ fn ward_tree(
     for &(a, b) in links {
         neighbours[a as usize].push(b);
         neighbours[b as usize].push(a);
-        heap.push(Reverse((ward(&weight, &centroid, a as usize, b as usize), a, b)));
+        heap.push(Reverse((
+            ward(&weight, &centroid, a as usize, b as usize),
+            a,
+            b,
+        )));
     }
     let mut merges = Vec::new();
     let mut clusters = n;
@@ -308,7 +314,11 @@ fn component_links(
         2
     };
     let mut order: Vec<usize> = (0..components).collect();
-    order.sort_by(|&a, &b| centres[a][axis].total_cmp(&centres[b][axis]).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        centres[a][axis]
+            .total_cmp(&centres[b][axis])
+            .then(a.cmp(&b))
+    });
     for w in order.windows(2) {
         let (a, b) = (w[0], w[1]);
         let (d, ra, rb) = closest(a, b);

@@ -73,7 +73,12 @@ impl CandidateGenerator for GeometricGenerator {
                 request.face_material.len()
             )));
         }
-        let regions = regions(mesh, request.face_rgba, request.face_material, &self.options);
+        let regions = regions(
+            mesh,
+            request.face_rgba,
+            request.face_material,
+            &self.options,
+        );
         let features = face_features(mesh, request, &self.options);
         cluster_regions(mesh, &features, DIMS, &regions, request.k_values.clone())
     }
@@ -200,7 +205,10 @@ mod tests {
         };
         let candidates = GeometricGenerator::default().candidates(&request).unwrap();
         // The boxes are convex components: two regions, so K is at most 2.
-        assert_eq!(candidates.iter().map(|c| c.k).collect::<Vec<_>>(), vec![1, 2]);
+        assert_eq!(
+            candidates.iter().map(|c| c.k).collect::<Vec<_>>(),
+            vec![1, 2]
+        );
         let expected: Vec<u32> = (0..faces).map(|f| u32::from(f >= 12)).collect();
         assert_eq!(candidates[1].face_labels, expected);
     }
@@ -218,7 +226,10 @@ mod tests {
             }
         }
         // The body's bottom and sides stay one region.
-        let body_rest: Vec<u32> = (0..12).filter(|f| !(2..4).contains(f)).map(|f| r[f]).collect();
+        let body_rest: Vec<u32> = (0..12)
+            .filter(|f| !(2..4).contains(f))
+            .map(|f| r[f])
+            .collect();
         assert!(body_rest.iter().all(|&x| x == body_rest[0]));
     }
 
@@ -231,7 +242,10 @@ mod tests {
         let r = regions(&mesh, &colours, &materials, &GeometricOptions::default());
         assert_eq!(r[2], r[3]);
         assert_ne!(r[2], r[0]);
-        let others: Vec<u32> = (0..12).filter(|&f| f != 2 && f != 3).map(|f| r[f]).collect();
+        let others: Vec<u32> = (0..12)
+            .filter(|&f| f != 2 && f != 3)
+            .map(|f| r[f])
+            .collect();
         assert!(others.iter().all(|&x| x == others[0]));
     }
 }
