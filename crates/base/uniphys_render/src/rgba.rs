@@ -77,6 +77,44 @@ impl RgbaImage {
         }
     }
 
+    /// The image shrunk by an integer `factor`, each output pixel the mean of a `factor` x
+    /// `factor` block (alpha-weighted colour; partial blocks at the right and bottom edges are
+    /// dropped). `factor` 0 or 1 returns a copy.
+    #[must_use]
+    pub fn downsampled(&self, factor: u32) -> RgbaImage {
+        if factor <= 1 {
+            return self.clone();
+        }
+        let (w, h) = (self.width_px / factor, self.height_px / factor);
+        let mut out = RgbaImage::new(w, h, [0; 4]);
+        let n = u64::from(factor * factor);
+        for y in 0..h {
+            for x in 0..w {
+                let (mut rgb, mut alpha) = ([0u64; 3], 0u64);
+                for dy in 0..factor {
+                    for dx in 0..factor {
+                        let p = self.get(x * factor + dx, y * factor + dy);
+                        let a = u64::from(p[3]);
+                        for c in 0..3 {
+                            rgb[c] += u64::from(p[c]) * a;
+                        }
+                        alpha += a;
+                    }
+                }
+                let colour = |sum: u64| {
+                    if alpha == 0 {
+                        0
+                    } else {
+                        u8::try_from((sum + alpha / 2) / alpha).unwrap_or(255)
+                    }
+                };
+                let a = u8::try_from((alpha + n / 2) / n).unwrap_or(255);
+                out.put(x, y, [colour(rgb[0]), colour(rgb[1]), colour(rgb[2]), a]);
+            }
+        }
+        out
+    }
+
     /// Number of pixels exactly equal to `rgba`.
     #[must_use]
     pub fn count(&self, rgba: [u8; 4]) -> usize {
@@ -163,6 +201,18 @@ mod tests {
         // Over a transparent pixel the source colour is kept whatever its alpha.
         assert_eq!(over([10, 20, 30, 40], [0; 4]), [10, 20, 30, 40]);
         assert_eq!(over([10, 20, 30, 0], [5, 6, 7, 8]), [5, 6, 7, 8]);
+    }
+
+    #[test]
+    fn downsampling_averages_blocks_weighted_by_alpha() {
+        let mut im = RgbaImage::new(4, 2, [255, 255, 255, 255]);
+        im.put(0, 0, [0, 0, 0, 255]);
+        im.put(2, 0, [200, 0, 0, 0]); // transparent: no colour contribution
+        let d = im.downsampled(2);
+        assert_eq!((d.width_px, d.height_px), (2, 1));
+        assert_eq!(d.get(0, 0), [191, 191, 191, 255]);
+        assert_eq!(d.get(1, 0), [255, 255, 255, 191]);
+        assert_eq!(im.downsampled(1), im);
     }
 
     #[test]

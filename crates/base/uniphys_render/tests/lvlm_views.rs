@@ -215,3 +215,38 @@ fn each_pivot_colour_is_drawn_around_its_projected_position() {
     }
     assert_eq!(pivot_candidate_views(&scene, 1, &pivots, &options), views);
 }
+
+#[test]
+fn degenerate_scenes_give_images_without_panicking() {
+    let options = ViewOptions { panel_px: 64 };
+    let empty = PartScene {
+        part_meshes: &[],
+        part_rgba: &[],
+    };
+    let img = part_composite(&empty, 3, &options);
+    assert_eq!(img.width_px, 3 * 64 + 2 * 8);
+    let meshes = cabinet();
+    // No colours given, a part index past the end, zero and non-finite axes and pivots.
+    let scene = PartScene {
+        part_meshes: &meshes,
+        part_rgba: &[],
+    };
+    let img = part_composite(&scene, 7, &options);
+    assert_eq!(img.width_px, 3 * 64 + 2 * 8);
+    let mut axes = [DVec3::ZERO; 10];
+    axes[7] = DVec3::new(f64::NAN, 0.0, 1.0);
+    axes[8] = DVec3::Y;
+    let views = axis_candidate_views(&scene, 0, &axes, DVec3::new(0.3, 0.2, 0.4), &options);
+    let green = AXIS_COLOURS[8].1;
+    assert!(
+        render_count(&views[0], 64 + 8, green, 64) > 5,
+        "the one valid axis is drawn"
+    );
+    assert_eq!(render_count(&views[0], 64 + 8, AXIS_COLOURS[7].1, 64), 0);
+    let pivots = [DVec3::splat(f64::INFINITY); 6];
+    let views = pivot_candidate_views(&scene, 1, &pivots, &options);
+    assert_eq!(views[0].width_px, 64);
+    for (_, rgba) in PIVOT_COLOURS {
+        assert_eq!(render_count(&views[0], 0, rgba, 64), 0);
+    }
+}

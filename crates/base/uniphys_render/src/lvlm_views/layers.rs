@@ -14,6 +14,17 @@ use crate::shade::{lambert, light_direction};
 const CONTEXT_ALPHA_OVER_TARGET: f64 = 0.4;
 /// Opacity of the context parts elsewhere.
 const CONTEXT_ALPHA: f64 = 0.55;
+/// Renders are made this many times larger in each direction and averaged down (anti-aliasing).
+pub(crate) const SUPERSAMPLING: u32 = 2;
+
+/// `camera` with an image [`SUPERSAMPLING`] times larger (same field of view).
+fn supersampled(camera: &Camera) -> Camera {
+    Camera {
+        width_px: camera.width_px * SUPERSAMPLING,
+        height_px: camera.height_px * SUPERSAMPLING,
+        ..*camera
+    }
+}
 
 /// The target part's mesh and colour and all other parts merged.
 pub(crate) struct SplitScene {
@@ -82,9 +93,11 @@ pub(crate) enum TargetStyle {
     Translucent(f64),
 }
 
-/// The scene from `camera` on white: the target part in its colour, the other parts light grey
-/// and translucent, so the target shows through parts in front of it.
+/// The scene from `camera` on white (anti-aliased by [`SUPERSAMPLING`]): the target part in its
+/// colour, the other parts light grey and translucent, so the target shows through parts in
+/// front of it.
 pub(crate) fn context_image(split: &SplitScene, camera: &Camera, style: TargetStyle) -> RgbaImage {
+    let camera = &supersampled(camera);
     let target = render_face_ids(&split.target, camera);
     let rest = render_face_ids(&split.rest, camera);
     let light = light_direction(camera);
@@ -121,11 +134,12 @@ pub(crate) fn context_image(split: &SplitScene, camera: &Camera, style: TargetSt
             }
         }
     }
-    out
+    out.downsampled(SUPERSAMPLING)
 }
 
 /// The target part alone from `camera`, opaque in its colour on white.
 pub(crate) fn alone_image(split: &SplitScene, camera: &Camera) -> RgbaImage {
+    let camera = &supersampled(camera);
     let target = render_face_ids(&split.target, camera);
     let light = light_direction(camera);
     let colour = [
@@ -139,5 +153,5 @@ pub(crate) fn alone_image(split: &SplitScene, camera: &Camera) -> RgbaImage {
             *px = [t[0], t[1], t[2], 255];
         }
     }
-    out
+    out.downsampled(SUPERSAMPLING)
 }
