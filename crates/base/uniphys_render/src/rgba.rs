@@ -102,11 +102,9 @@ impl RgbaImage {
                     }
                 }
                 let colour = |sum: u64| {
-                    if alpha == 0 {
-                        0
-                    } else {
-                        u8::try_from((sum + alpha / 2) / alpha).unwrap_or(255)
-                    }
+                    (sum + alpha / 2)
+                        .checked_div(alpha)
+                        .map_or(0, |c| u8::try_from(c).unwrap_or(255))
                 };
                 let a = u8::try_from((alpha + n / 2) / n).unwrap_or(255);
                 out.put(x, y, [colour(rgb[0]), colour(rgb[1]), colour(rgb[2]), a]);
