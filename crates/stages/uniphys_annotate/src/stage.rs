@@ -379,22 +379,27 @@ impl Context<'_> {
             self.options.seed,
         )
         .map_err(|e| PartError::Failed(format!("no articulation candidates: {e}")))?;
-        let group: Vec<usize> = movable
-            .group
-            .iter()
-            .map(|&l| (l as usize).saturating_sub(1))
-            .collect();
-        let anchor = candidates.pivots[crate::articulation::CENTROID_PIVOT];
+        let (Ok(axes), Ok(pivots)) = (
+            <[DVec3; 10]>::try_from(candidates.axes.as_slice()),
+            <[DVec3; 6]>::try_from(candidates.pivots.as_slice()),
+        ) else {
+            return Err(PartError::Failed(format!(
+                "expected 10 axis and 6 pivot candidates, got {} and {}",
+                candidates.axes.len(),
+                candidates.pivots.len()
+            )));
+        };
+        let anchor = pivots[crate::articulation::CENTROID_PIVOT];
         let mut pngs = vec![
             self.composites.get(index).cloned().unwrap_or_default(),
             self.scene
-                .axis_views(&group, &candidates.axes, anchor)
+                .axis_views(index, &axes, anchor)
                 .map_err(PartError::Fatal)?,
         ];
         if revolute {
             pngs.push(
                 self.scene
-                    .pivot_views(&group, &candidates.pivots)
+                    .pivot_views(index, &pivots)
                     .map_err(PartError::Fatal)?,
             );
         }
