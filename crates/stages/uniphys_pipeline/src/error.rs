@@ -37,6 +37,9 @@ pub enum PipelineError {
     /// The LVLM client could not be set up (configuration, cache directory).
     #[error(transparent)]
     Lvlm(#[from] uniphys_lvlm::LvlmError),
+    /// Decomposition into parts failed.
+    #[error(transparent)]
+    Decompose(#[from] uniphys_decompose::DecomposeError),
     /// The input has nothing to process.
     #[error("{0}")]
     Empty(String),

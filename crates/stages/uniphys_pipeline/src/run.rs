@@ -8,6 +8,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use uniphys_decompose::{BuiltinSegmenter, DecomposeOptions, GeometricGenerator, decompose_asset};
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
     ConvexParams, MassProperties, MeshAsset, TriMesh, VolumeMethod, convex_decomposition,
@@ -45,6 +46,10 @@ pub struct RunOptions {
     pub lvlm: Option<LvlmOptions>,
     /// Verification parameters.
     pub verify: VerifyOptions,
+    /// Decompose the input into parts right after ingest (built-in segmenter and generator);
+    /// the decomposed parts replace the input's parts and its declared joints are dropped (they
+    /// name the old parts). `None` (default) keeps the input's parts and joints.
+    pub decompose: Option<DecomposeOptions>,
 }
 
 impl Default for RunOptions {
@@ -57,6 +62,7 @@ impl Default for RunOptions {
             learned: None,
             lvlm: None,
             verify: VerifyOptions::default(),
+            decompose: None,
         }
     }
 }
@@ -113,25 +119,49 @@ pub fn run(
     };
     let name = asset_name(path);
 
-    let (mut asset, source, dropped, ingest_warnings) = clock.stage(Stage::Ingest, || {
-        let loaded = load_asset(path, &options.ingest)?;
-        let summary = format!(
+    let (mut asset, source, dropped, ingest_warnings, decompose_note) =
+        clock.stage(Stage::Ingest, || {
+        let mut loaded = load_asset(path, &options.ingest)?;
+        let mut summary = format!(
             "{} parts, {} triangles, {} joints declared",
             loaded.asset.parts.len(),
             loaded.asset.triangle_count(),
             loaded.asset.joints.len()
         );
+        let mut decompose_note = None;
+        if let Some(decompose) = &options.decompose {
+            let (parts, decomposition) = decompose_asset(
+                &loaded.asset,
+                &BuiltinSegmenter::default(),
+                &GeometricGenerator::default(),
+                decompose,
+            )?;
+            summary = format!(
+                "{summary}; decomposed into {} parts (joints dropped)",
+                decomposition.part_count
+            );
+            decompose_note = Some(format!(
+                "decomposed into {} parts by {} and {} (K matched {}, merge: {}); declared joints dropped",
+                decomposition.part_count,
+                decomposition.summary.segmenter,
+                decomposition.summary.generator,
+                decomposition.summary.matched_k,
+                decomposition.summary.merge_strategy
+            ));
+            loaded.asset = parts;
+        }
         Ok((
             (
                 loaded.asset,
                 loaded.source,
                 loaded.dropped_degenerate_triangles,
                 loaded.warnings,
+                decompose_note,
             ),
             summary,
         ))
     })?;
-    let mut notes = Vec::new();
+    let mut notes: Vec<String> = decompose_note.into_iter().collect();
     if dropped > 0 {
         notes.push(format!(
             "{dropped} zero-area triangles were dropped at ingest"

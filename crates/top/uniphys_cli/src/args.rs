@@ -103,6 +103,46 @@ pub enum StageAction {
         #[command(flatten)]
         service: crate::service::config::ServiceArgs,
     },
+    /// Run one stage alone on a local file, without servers (stages: decompose).
+    Run {
+        /// The stage.
+        stage: String,
+        /// Its input and options.
+        #[command(flatten)]
+        args: StageRunArgs,
+    },
+}
+
+/// Arguments of `uniphys stage run`.
+#[derive(Debug, clap::Args)]
+pub struct StageRunArgs {
+    /// The asset: .glb, .gltf, .obj, .ply, .stl, .urdf, or a folder with one URDF.
+    pub asset: PathBuf,
+    /// Output directory (created if missing); decompose writes parts/part_<i>.obj, parts.obj,
+    /// face_parts.json and decompose.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Up axis of the input coordinates.
+    #[arg(long, value_enum, default_value_t = UpArg::Auto)]
+    pub up: UpArg,
+    /// Unit of the input coordinates: m, cm, mm, in, ft, or metres per unit as a number.
+    #[arg(long, default_value = "m")]
+    pub unit: String,
+    /// Refuse inputs with more triangles than this.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub max_triangles: usize,
+    /// Views rendered around the object.
+    #[arg(long, default_value_t = 8)]
+    pub views: usize,
+    /// Width and height of every view, pixels.
+    #[arg(long, default_value_t = 512)]
+    pub resolution_px: u32,
+    /// Threads segmenting the views (the result does not depend on it).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Seed for anything random (same input and seed, same parts).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
 }
 
 /// Up axis of the input.
@@ -175,6 +215,11 @@ pub struct RunArgs {
     /// so that the grounder infers the articulation (noted in report.json).
     #[arg(long)]
     pub ignore_joints: bool,
+    /// Decompose the input into parts right after ingest (built-in segmenter and generator, 8
+    /// views at 512 px), for meshes given in one piece or in fragments; the decomposed parts
+    /// replace the input's and its declared joints are dropped.
+    #[arg(long)]
+    pub decompose: bool,
     /// Rotate the whole asset by a uniformly random rotation drawn from this seed, after the
     /// unit and up-axis conversion (noted in report.json; give the same seed to `uniphys eval`).
     #[arg(long, value_name = "SEED")]

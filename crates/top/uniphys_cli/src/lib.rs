@@ -6,7 +6,8 @@
 //! - `uniphys eval --pred <record>... --gt <urdf|record|entity>...`: the paper's metrics;
 //! - `uniphys examples --out <dir>`: write the example assets as GLB;
 //! - `uniphys serve | api | worker | migrate | tenant create | stage pause|resume|paused`: the job-queue service
-//!   ([`service`]); `uniphys submit | status`: its API client.
+//!   ([`service`]); `uniphys submit | status`: its API client;
+//! - `uniphys stage run decompose <asset> --out <dir>`: one stage alone on a local file.
 
 mod args;
 mod eval_cmd;
@@ -16,8 +17,9 @@ mod progress;
 mod report_notes;
 mod run_cmd;
 pub mod service;
+mod stage_run_cmd;
 
-pub use args::{Cli, Command, EvalArgs, StageAction, TenantAction};
+pub use args::{Cli, Command, EvalArgs, StageAction, StageRunArgs, TenantAction};
 
 use std::process::ExitCode;
 
@@ -61,6 +63,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
                 service::stage_control(&service, "resume", Some(&stage))
             }
             StageAction::Paused { service } => service::stage_control(&service, "paused", None),
+            StageAction::Run { stage, args } => stage_run_cmd::run_stage(&stage, &args),
         },
         Command::Submit(args) => service::client::submit(&args),
         Command::Status(args) => service::client::status(&args),

@@ -1,6 +1,7 @@
 use std::process::ExitCode;
 
 use anyhow::Context;
+use uniphys_decompose::DecomposeOptions;
 use uniphys_mesh_io::{AssetRotation, IngestOptions};
 use uniphys_pipeline::{LearnedOptions, LvlmOptions, RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
@@ -24,6 +25,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         ..RunOptions::default()
     };
     options.convex.max_hulls = args.max_hulls;
+    options.decompose = args.decompose.then(DecomposeOptions::default);
     options.learned = args.uniphysgen_url.as_ref().map(|url| LearnedOptions {
         client: ClientConfig {
             base_url: url.clone(),
