@@ -161,7 +161,8 @@ fn main() {
         "| triangles | resolution | ms per view | x floor | ms per view, buffers reused | x floor | covered px |"
     );
     println!("|---:|---:|---:|---:|---:|---:|---:|");
-    for (rings, segments) in [(50, 100), (158, 316), (224, 448)] {
+    // (2, 2000): 4000 long slivers from the poles to the equator, the worst case of a box scan.
+    for (rings, segments) in [(2, 2000), (50, 100), (158, 316), (224, 448)] {
         let mesh = sphere(rings, segments);
         for size in [256u32, 512, 800] {
             let (fresh, reused, covered) = per_view_ms(&mesh, size, 7);
