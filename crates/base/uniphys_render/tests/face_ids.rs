@@ -376,3 +376,35 @@ fn rendering_is_deterministic_and_the_png_round_trips() {
         }
     }
 }
+
+#[test]
+fn on_equal_depth_the_smaller_triangle_index_wins() {
+    // Triangles 0 and 2 coincide with 1 and 3; 1 and 3 come later and must never show.
+    let positions = vec![
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+    ];
+    let mesh =
+        TriMesh::new(positions, vec![[0, 1, 2], [0, 1, 2], [0, 2, 3], [0, 2, 3]]).expect("valid");
+    let cam = Camera::look_at(
+        DVec3::new(0.3, -0.2, 3.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        1.0,
+        50,
+        40,
+    );
+    let img = render_face_ids(&mesh, &cam);
+    let mut seen = [0usize; 4];
+    for y in 0..40 {
+        for x in 0..50 {
+            if let Some(f) = img.face_at(x, y) {
+                seen[f] += 1;
+            }
+        }
+    }
+    assert!(seen[0] > 100 && seen[2] > 100, "{seen:?}");
+    assert_eq!((seen[1], seen[3]), (0, 0), "{seen:?}");
+}
