@@ -47,6 +47,9 @@ pub enum AnnotateError {
     /// A render could not be made or encoded.
     #[error(transparent)]
     Render(#[from] uniphys_render::RenderError),
+    /// A render thread stopped without its image.
+    #[error("rendering the request images failed: {0}")]
+    RenderFailed(String),
     /// An option is outside its domain.
     #[error("invalid annotation option {name}: {reason}")]
     InvalidOption {

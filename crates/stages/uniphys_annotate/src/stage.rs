@@ -167,12 +167,9 @@ pub fn annotate(
     check_input(input, options)?;
     let n = input.part_meshes.len();
     let mut timings = AnnotateTimings::default();
-    let started = Instant::now();
     let scene = Scene::new(input.part_meshes, input.part_colours, options.panel_px);
-    let composites = (0..n)
-        .map(|i| scene.part_composite(i))
-        .collect::<AnnotateResult<Vec<_>>>()?;
-    timings.render_secs += started.elapsed().as_secs_f64();
+    let (composites, composite_secs) = render_composites(&scene, n)?;
+    timings.render_secs += composite_secs;
     timings.images += n;
 
     let prompt = properties_prompt(
@@ -288,6 +285,56 @@ pub fn annotate(
         cost: ledger.summary(),
         timings,
     })
+}
+
+/// The composites of all `n` parts, rendered on the available cores (parts dealt round-robin
+/// to threads); returns them in part order with the rendering time summed over threads.
+fn render_composites(scene: &Scene<'_>, n: usize) -> AnnotateResult<(Vec<Vec<u8>>, f64)> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(n)
+        .max(1);
+    let rendered: Vec<(usize, AnnotateResult<Vec<u8>>, f64)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                s.spawn(move || {
+                    (t..n)
+                        .step_by(threads)
+                        .map(|i| {
+                            let started = Instant::now();
+                            let png = scene.part_composite(i);
+                            (i, png, started.elapsed().as_secs_f64())
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_default())
+            .collect()
+    });
+    let mut slots: Vec<Option<Vec<u8>>> = vec![None; n];
+    let mut secs = 0.0;
+    for (i, png, elapsed) in rendered {
+        secs += elapsed;
+        if let Some(slot) = slots.get_mut(i) {
+            *slot = Some(png?);
+        }
+    }
+    let composites = slots
+        .into_iter()
+        .enumerate()
+        .map(|(i, png)| {
+            png.ok_or_else(|| {
+                AnnotateError::RenderFailed(format!(
+                    "the composite of part {} was not rendered (its thread panicked)",
+                    i + 1
+                ))
+            })
+        })
+        .collect::<AnnotateResult<Vec<_>>>()?;
+    Ok((composites, secs))
 }
 
 fn note_repair(repairs: &mut Vec<Repair>, subject: &str, violations: &[Violation]) {
