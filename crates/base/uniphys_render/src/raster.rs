@@ -88,10 +88,11 @@ pub(crate) fn rasterise_triangle(target: &mut Target<'_>, v: [ScreenVertex; 3], 
     rasterise(target, v, id, true);
 }
 
-/// Bounding boxes at least this wide are scanned row by row only over the span where the edge
-/// functions can be non-negative (found analytically, widened by a pixel each side; the exact
-/// test still decides each pixel), so long thin triangles cost their area, not their box.
-const SPAN_MIN_WIDTH_PX: usize = 8;
+/// Bounding boxes at least this wide (and mostly empty) are scanned row by row only over the
+/// span where the edge functions can be non-negative (found analytically, widened by a pixel each
+/// side; the exact test still decides each pixel), so long thin triangles cost their area, not
+/// their box.
+const SPAN_MIN_WIDTH_PX: usize = 3;
 
 /// [`rasterise_triangle`]; `use_spans` off scans the whole bounding box (for tests).
 fn rasterise(target: &mut Target<'_>, v: [ScreenVertex; 3], id: u32, use_spans: bool) {
@@ -134,14 +135,18 @@ fn rasterise(target: &mut Target<'_>, v: [ScreenVertex; 3], id: u32, use_spans: 
     );
     let (x0, x1, y0, y1) = (x0 as usize, x1 as usize, y0 as usize, y1 as usize);
     let width = target.width_px;
-    let use_spans = use_spans && x1 - x0 >= SPAN_MIN_WIDTH_PX;
+    let first_row_y = y0 as f64 + 0.5;
+    // `area` is twice the triangle's area in pixels: spans pay off when the box is mostly empty.
+    let box_px = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f64;
+    let roots = (use_spans && x1 - x0 >= SPAN_MIN_WIDTH_PX && box_px > area + 32.0)
+        .then(|| e.map(|edge| EdgeRoot::new(&edge, first_row_y)));
     for y in y0..=y1 {
         let fy = y as f64 + 0.5;
         let r = [e[0].row(fy), e[1].row(fy), e[2].row(fy)];
         let row_start = y * width;
         let (mut lo, mut hi) = (x0, x1);
-        if use_spans {
-            let Some((a, b)) = row_span(&e, &r, x0, x1) else {
+        if let Some(roots) = &roots {
+            let Some((a, b)) = row_span(&e, roots, &r, y - y0, x0, x1) else {
                 continue;
             };
             (lo, hi) = (a, b);
@@ -164,25 +169,63 @@ fn rasterise(target: &mut Target<'_>, v: [ScreenVertex; 3], id: u32, use_spans: 
     }
 }
 
-/// Pixel range of the row (within `x0..=x1`) outside of which some edge function is negative,
-/// widened by one pixel each side against rounding; `None` when the whole row is outside.
-fn row_span(e: &[Edge; 3], r: &[f64; 3], x0: usize, x1: usize) -> Option<(usize, usize)> {
-    let (mut lo, mut hi) = (x0 as f64, x1 as f64);
-    for (edge, &row) in e.iter().zip(r) {
-        // E(fx) = sign * (row - dy * (fx - ax)) is linear in fx with slope -sign * dy.
+/// Where an edge function changes sign along a row, as a linear function of the row.
+#[derive(Debug, Clone, Copy)]
+struct EdgeRoot {
+    /// Pixel coordinate (centre at `i`) where E = 0 on the first row of the box.
+    root_first_row: f64,
+    /// Change of that coordinate per row.
+    root_per_row: f64,
+    /// E grows to the right (the inside is right of the root), else to the left.
+    rising: bool,
+    /// The edge is horizontal: E is constant along a row.
+    horizontal: bool,
+}
+
+impl EdgeRoot {
+    fn new(edge: &Edge, first_row_y: f64) -> Self {
+        // E(fx) = sign * (row - dy * (fx - ax)) with row = dx * (fy - ay): slope -sign * dy,
+        // zero at fx = ax + dx * (fy - ay) / dy.
         let slope = -edge.sign * edge.dy;
-        if slope == 0.0 {
+        let horizontal = slope == 0.0;
+        let root_per_row = if horizontal { 0.0 } else { edge.dx / edge.dy };
+        Self {
+            root_first_row: if horizontal {
+                0.0
+            } else {
+                edge.ax + (first_row_y - edge.ay) * root_per_row - 0.5
+            },
+            root_per_row,
+            rising: slope > 0.0,
+            horizontal,
+        }
+    }
+}
+
+/// Pixel range of row `row_index` (counted from the box's first row, within `x0..=x1`) outside
+/// of which some edge function is negative, widened by one pixel each side against rounding;
+/// `None` when the whole row is outside.
+fn row_span(
+    e: &[Edge; 3],
+    roots: &[EdgeRoot; 3],
+    r: &[f64; 3],
+    row_index: usize,
+    x0: usize,
+    x1: usize,
+) -> Option<(usize, usize)> {
+    let (mut lo, mut hi) = (x0 as f64, x1 as f64);
+    for ((edge, root), &row) in e.iter().zip(roots).zip(r) {
+        if root.horizontal {
             if edge.sign * row < 0.0 {
                 return None;
             }
             continue;
         }
-        // E = 0 at the centre of pixel `root`.
-        let root = edge.ax + row / edge.dy - 0.5;
-        if slope > 0.0 {
-            lo = lo.max(floor(root.max(-1e15)) - 1.0);
+        let at = root.root_first_row + root.root_per_row * row_index as f64;
+        if root.rising {
+            lo = lo.max(floor(at.max(-1e15)) - 1.0);
         } else {
-            hi = hi.min(ceil(root.min(1e15)) + 1.0);
+            hi = hi.min(ceil(at.min(1e15)) + 1.0);
         }
     }
     (lo <= hi).then_some((lo as usize, hi as usize))
