@@ -4,11 +4,11 @@
 //!
 //! - [`Camera`]: pinhole camera (symmetric vertical field of view, square pixels);
 //!   [`orbit_cameras`] (the reference's 8-view rig) and [`camera_from_direction`] frame a box.
-//! - [`render_face_ids`]: z-buffered rasterisation into a [`FaceIdImage`] (triangle id, view
-//!   depth and facing normal per pixel).
+//! - [`render_face_ids`] (or [`render_face_ids_into`], reusing buffers): z-buffered
+//!   rasterisation into a [`FaceIdImage`] (triangle id, view depth and facing normal per pixel;
+//!   triangles crossing the near plane are clipped).
 //! - [`RgbaImage`], [`shade`] (Lambert), [`hstack`]/[`vstack`], [`draw`] (lines, discs,
 //!   arrows, rectangles, 5x7 text), [`encode_png`]/[`decode_png`].
-//!
 //! - [`lvlm_views`]: the part composites and the candidate-axis and pivot views for the LVLM.
 //!
 //! World coordinates are metres (Z up); image x grows to the right and y downwards.

@@ -1,10 +1,11 @@
+use uniphys_geometry::DVec3;
+
 use super::colours::WHITE;
 use super::layers::{SplitScene, TargetStyle, alone_image, context_image};
 use super::panel::{font_scale, titled_panel};
 use super::{PANEL_GAP_PX, PartScene, VIEW_DIRECTIONS, ViewOptions};
 use crate::rgba::{RgbaImage, hstack};
 use crate::rig::camera_from_direction;
-use uniphys_geometry::DVec3;
 
 /// Context-preserving composite of part `part` (0-based; titles use label `part + 1`): three
 /// titled, framed panels side by side: "part N (camera view 0)", "part N (camera view 1)": the
