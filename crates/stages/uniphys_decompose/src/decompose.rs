@@ -13,7 +13,9 @@ use crate::perception::{PerceptionOptions, perceive};
 use crate::prior::k_range;
 use crate::refine::split_disconnected;
 use crate::segment::Segmenter;
-use crate::select::select_candidate;
+use crate::select::{
+    closest_k, select_candidate, substantial_components, without_whole_object_masks,
+};
 use crate::small_parts::{SmallPartOptions, merge_small_parts};
 use crate::views::{face_colours, face_material_ids};
 use crate::{DecomposeError, DecomposeResult};
@@ -34,6 +36,12 @@ pub struct DecomposeOptions {
     /// In the split after the merge, a part that falls into more pieces than this stays whole
     /// (default 5).
     pub refine_again_keep_whole_above: usize,
+    /// A mask holding at least this share of the area a view's masks cover is the whole object
+    /// and is ignored (default 0.85).
+    pub whole_object_fraction: f64,
+    /// Without any informative mask, K is the number of connected components holding at least
+    /// this share of the area (default 0.01).
+    pub component_area_fraction: f64,
     /// The merge of parts the views show together.
     pub apriori: AprioriOptions,
     /// The merge of small fragments.
@@ -51,6 +59,8 @@ impl Default for DecomposeOptions {
             refine_eps_rel: 5e-3,
             refine_again_eps_rel: 1e-2,
             refine_again_keep_whole_above: 5,
+            whole_object_fraction: 0.85,
+            component_area_fraction: 0.01,
             apriori: AprioriOptions::default(),
             small_parts: SmallPartOptions::default(),
             seed: 0,
@@ -109,7 +119,31 @@ pub fn decompose(
     lap("candidates", &mut timings);
 
     let face_area_m2: Vec<f64> = (0..faces).map(|f| mesh.face_area(f)).collect();
-    let selection = select_candidate(&candidates, &perception.per_view, &face_area_m2)?;
+    let per_view = without_whole_object_masks(
+        &perception.per_view,
+        &face_area_m2,
+        options.whole_object_fraction,
+    );
+    let merged_masks = without_whole_object_masks(
+        std::slice::from_ref(&perception.merged),
+        &face_area_m2,
+        options.whole_object_fraction,
+    )
+    .pop()
+    .unwrap_or_default();
+    let informative_views = per_view.iter().filter(|v| !v.is_empty()).count();
+    let (selection, selected_by) = if informative_views > 0 {
+        (
+            select_candidate(&candidates, &per_view, &face_area_m2)?,
+            "masks",
+        )
+    } else {
+        let k = substantial_components(mesh, options.component_area_fraction);
+        (
+            closest_k(&candidates, k)?,
+            "geometry (no view has a mask below the whole object)",
+        )
+    };
     let chosen = &candidates[selection.index];
     lap("select", &mut timings);
 
@@ -119,8 +153,8 @@ pub fn decompose(
 
     let merged = merge_parts(
         &refined,
-        &perception.per_view,
-        &perception.merged,
+        &per_view,
+        &merged_masks,
         &face_area_m2,
         &options.apriori,
     );
@@ -135,7 +169,7 @@ pub fn decompose(
     lap("refine_again", &mut timings);
 
     let (face_part, part_count, small_parts_merged) =
-        merge_small_parts(mesh, &again, &options.small_parts);
+        merge_small_parts(mesh, &again, &materials, &options.small_parts);
     lap("small_parts", &mut timings);
 
     let summary = DecomposeSummary {
@@ -151,6 +185,8 @@ pub fn decompose(
             .map(|&(k, loss)| CandidateLoss { k, loss })
             .collect(),
         matched_k: selection.k,
+        informative_views,
+        selected_by: selected_by.to_owned(),
         refined_parts,
         merged_parts: merged.part_count,
         refined_again_parts,

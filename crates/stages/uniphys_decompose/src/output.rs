@@ -50,6 +50,11 @@ pub struct DecomposeSummary {
     pub candidates: Vec<CandidateLoss>,
     /// K of the chosen candidate (`partfield_match`).
     pub matched_k: usize,
+    /// Views with a mask that is not the whole object.
+    pub informative_views: usize,
+    /// How the candidate was chosen: "masks", or by the geometry when no view has an informative
+    /// mask.
+    pub selected_by: String,
     /// Parts after the first connectivity split (`refined_parts`).
     pub refined_parts: usize,
     /// Parts after the merge (`merged_parts`).

@@ -4,7 +4,7 @@
 //! `1 - mean(matched IoU) * alpha_v` with `alpha_v` the share of the visible surface the matched
 //! masks cover; the candidate's loss is the mean over views; ties go to the smallest K.
 
-use crate::candidates::Candidate;
+use crate::candidates::{Candidate, FaceAdjacency, UnionFind, welded_vertex_ids};
 use crate::hungarian::min_cost_assignment;
 use crate::{DecomposeError, DecomposeResult};
 
@@ -22,6 +22,70 @@ pub struct Selection {
     pub loss: f64,
     /// `(k, loss)` of every candidate, in input order.
     pub losses: Vec<(usize, f64)>,
+}
+
+/// The masks of every view without the ones that cover the whole object: a mask holding at least
+/// `whole_fraction` of the area the view's masks cover says nothing about parts (the reference
+/// drops the largest SAM mask of every view for the same reason).
+#[must_use]
+pub fn without_whole_object_masks(
+    per_view: &[Vec<Vec<u32>>],
+    face_area_m2: &[f64],
+    whole_fraction: f64,
+) -> Vec<Vec<Vec<u32>>> {
+    let area = |m: &[u32]| -> f64 {
+        m.iter()
+            .map(|&f| face_area_m2.get(f as usize).copied().unwrap_or(0.0))
+            .sum()
+    };
+    per_view
+        .iter()
+        .map(|masks| {
+            let total: f64 = masks.iter().map(|m| area(m)).sum();
+            masks
+                .iter()
+                .filter(|m| total <= 0.0 || area(m) < whole_fraction * total)
+                .cloned()
+                .collect()
+        })
+        .collect()
+}
+
+/// Number of connected components (faces sharing a welded edge) holding at least `min_fraction`
+/// of the surface area: the part count the geometry alone suggests (at least 1).
+#[must_use]
+pub fn substantial_components(mesh: &uniphys_geometry::TriMesh, min_fraction: f64) -> usize {
+    let faces = mesh.triangle_count();
+    let adjacency = FaceAdjacency::new(mesh, &welded_vertex_ids(mesh));
+    let mut uf = UnionFind::new(faces);
+    for &(a, b) in &adjacency.pairs {
+        uf.union(a, b);
+    }
+    let mut area = vec![0.0f64; faces];
+    for f in 0..faces {
+        area[uf.find(u32::try_from(f).unwrap_or(0)) as usize] += mesh.face_area(f);
+    }
+    let total: f64 = area.iter().sum();
+    area.iter()
+        .filter(|&&a| a > 0.0 && a >= min_fraction * total)
+        .count()
+        .max(1)
+}
+
+/// The candidate whose K is closest to `k` (the smaller on ties), for when no view has an
+/// informative mask; every loss is reported as NaN.
+pub fn closest_k(candidates: &[Candidate], k: usize) -> DecomposeResult<Selection> {
+    let index = (0..candidates.len())
+        .min_by_key(|&i| (candidates[i].k.abs_diff(k), candidates[i].k))
+        .ok_or_else(|| {
+            DecomposeError::InvalidInput("no candidate decomposition to choose from".into())
+        })?;
+    Ok(Selection {
+        index,
+        k: candidates[index].k,
+        loss: f64::NAN,
+        losses: candidates.iter().map(|c| (c.k, f64::NAN)).collect(),
+    })
 }
 
 /// Surface area covered by any mask of any view (the "visible" surface of the reference).
@@ -207,6 +271,32 @@ mod tests {
         // K = 1: view 0 one match IoU 0.5, alpha 0.5 -> 0.75; view 1: IoU 3/5, alpha 3/8.
         let k1 = (0.75 + (1.0 - 0.6 * 3.0 / 8.0)) / 2.0;
         assert!((selection.losses[0].1 - k1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn whole_object_masks_are_dropped_and_the_geometry_decides_without_masks() {
+        let areas = vec![1.0; 8];
+        let views = vec![
+            vec![(0..8).collect::<Vec<u32>>()],
+            vec![vec![0, 1, 2, 3, 4, 5, 6], vec![7]],
+        ];
+        let informative = without_whole_object_masks(&views, &areas, 0.85);
+        assert_eq!(informative, vec![vec![], vec![vec![7]]]);
+        let candidates = vec![
+            candidate(1, &[0; 8]),
+            candidate(3, &[0, 0, 0, 1, 1, 1, 2, 2]),
+        ];
+        assert_eq!(closest_k(&candidates, 2).unwrap().k, 1);
+        assert_eq!(closest_k(&candidates, 5).unwrap().index, 1);
+        // Two far boxes and a speck: two substantial components.
+        use uniphys_geometry::{DVec3, TriMesh};
+        let a = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let b = TriMesh::cuboid(DVec3::splat(2.0), DVec3::splat(3.0));
+        let c = TriMesh::cuboid(DVec3::splat(5.0), DVec3::splat(5.01));
+        assert_eq!(
+            substantial_components(&TriMesh::merge([&a, &b, &c]), 0.01),
+            2
+        );
     }
 
     #[test]

@@ -5,8 +5,9 @@
 //! the object, when it is a small planar patch or when it is line-like. Each small part (smallest
 //! first) joins the neighbour that the largest share of its surface samples touch (exact point to
 //! triangle distances); without contact, the neighbour with the smallest box gap if it is near.
-//! A somewhat larger part (below 2 % of the area) also joins a neighbour it is clearly attached
-//! to when that neighbour is several times larger: handles and knobs go with their drawer or lid
+//! A somewhat larger part (below 2 % of the area) also joins a neighbour of the same material it
+//! is clearly attached to when that neighbour is several times larger: handles and knobs go with
+//! their drawer or lid (a steel handle on a wooden drawer stays a part of its own)
 //! (the reference leaves that to PartField's features; a small separately moving button is the
 //! price).
 
@@ -18,7 +19,7 @@ use crate::candidates::{UnionFind, relabel_by_first_face};
 /// total surface area.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SmallPartOptions {
-    /// Parts below this share of the area are small. Default 0.004.
+    /// Parts below this share of the area are small. Default 0.001.
     pub area_fraction_min: f64,
     /// Parts whose largest extent is below this share of the diagonal are small. Default 0.03.
     pub extent_fraction_min: f64,
@@ -43,7 +44,7 @@ pub struct SmallPartOptions {
 impl Default for SmallPartOptions {
     fn default() -> Self {
         Self {
-            area_fraction_min: 0.004,
+            area_fraction_min: 0.001,
             extent_fraction_min: 0.03,
             planar_area_fraction_max: 0.02,
             area_fraction_keep: 0.1,
@@ -65,6 +66,7 @@ const SAMPLES: usize = 200;
 pub fn merge_small_parts(
     mesh: &TriMesh,
     face_part: &[u32],
+    face_material: &[u32],
     options: &SmallPartOptions,
 ) -> (Vec<u32>, usize, usize) {
     let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
@@ -89,6 +91,23 @@ pub fn merge_small_parts(
             fs.iter()
                 .flat_map(|&f| mesh.corners(f))
                 .fold(Aabb::EMPTY, Aabb::grown)
+        })
+        .collect();
+    // Material covering most of each part's area (smallest id on ties).
+    let material: Vec<u32> = faces_of
+        .iter()
+        .map(|fs| {
+            let mut by: std::collections::BTreeMap<u32, f64> = std::collections::BTreeMap::new();
+            for &f in fs {
+                let m = face_material.get(f).copied().unwrap_or(0);
+                *by.entry(m).or_insert(0.0) += mesh.face_area(f);
+            }
+            by.iter()
+                .fold(None, |best: Option<(u32, f64)>, (&m, &a)| match best {
+                    Some((_, b)) if b >= a => best,
+                    _ => Some((m, a)),
+                })
+                .map_or(0, |(m, _)| m)
         })
         .collect();
     let is_small = |p: usize| -> bool {
@@ -136,7 +155,8 @@ pub fn merge_small_parts(
             continue;
         };
         let attached = share >= options.attached_contact_min
-            && area[q] >= options.attached_size_ratio * area[p];
+            && area[q] >= options.attached_size_ratio * area[p]
+            && material[p] == material[q];
         if is_small(p) || attached {
             groups.union(u32::try_from(p).unwrap_or(0), u32::try_from(q).unwrap_or(0));
             merged += 1;
@@ -264,7 +284,7 @@ mod tests {
         let mesh = TriMesh::merge([&body, &drawer, &knob]);
         let labels: Vec<u32> = (0..36).map(|f| (f / 12) as u32).collect();
         let (merged, count, moved) =
-            merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
+            merge_small_parts(&mesh, &labels, &[], &SmallPartOptions::default());
         assert_eq!((count, moved), (2, 1));
         let expected: Vec<u32> = (0..36).map(|f| u32::from(f >= 12)).collect();
         assert_eq!(merged, expected);
@@ -277,7 +297,7 @@ mod tests {
         let mesh = TriMesh::merge([&body, &speck]);
         let labels: Vec<u32> = (0..24).map(|f| u32::from(f >= 12)).collect();
         let (merged, count, moved) =
-            merge_small_parts(&mesh, &labels, &SmallPartOptions::default());
+            merge_small_parts(&mesh, &labels, &[], &SmallPartOptions::default());
         assert_eq!((count, moved), (2, 0));
         assert_eq!(merged, labels);
     }

@@ -1,7 +1,9 @@
 //! Ward agglomerative clustering of per-face (or per-region) feature rows under face adjacency.
 //!
 //! The merge tree is built once with a heap and lazy deletion (O(E log E) for E adjacent
-//! cluster pairs) and replayed with a union-find for every K. Separate connected components are
+//! cluster pairs) and replayed with a union-find for every K. Merges inside a connected component
+//! come before merges across components: a separate shell is a strong hint of a separate part,
+//! so components are split only when K exceeds their count. Separate connected components are
 //! linked to their nearest components by closest vertices (Kruskal over each component's nearest
 //! neighbours by bounding-box gap), so the tree always reaches one cluster and a far-away piece
 //! joins a near one rather than an arbitrary one.
@@ -103,13 +105,30 @@ pub fn cluster_regions(
         .filter(|(a, b)| a != b)
         .map(|(a, b)| (a.min(b), a.max(b)))
         .collect();
+    let mut components = UnionFind::new(region_count);
+    for &(a, b) in &links {
+        components.union(a, b);
+    }
+    let component_of_region: Vec<u32> = (0..u32::try_from(region_count).unwrap_or(u32::MAX))
+        .map(|r| components.find(r))
+        .collect();
     links.extend(component_links(mesh, &region_of_face, region_count, &links));
     links.sort_unstable();
     links.dedup();
 
     let k_min = k_values.start().max(&1).to_owned();
-    let tree = ward_tree(&weight, centroid, dims, &links, k_min);
-    Ok(replay(&tree, &region_of_face, region_count, k_values))
+    let tree = ward_tree(&weight, centroid, dims, &links, &component_of_region, k_min);
+    let mut candidates = replay(&tree, &region_of_face, region_count, k_values.clone());
+    if candidates.is_empty() && *k_values.start() > region_count {
+        // Every K asked for is above the region count: the finest decomposition is the nearest.
+        candidates = replay(
+            &tree,
+            &region_of_face,
+            region_count,
+            region_count..=region_count,
+        );
+    }
+    Ok(candidates)
 }
 
 /// Merges in order, as pairs of region representatives (the smallest region of each cluster).
@@ -117,11 +136,14 @@ struct MergeTree {
     merges: Vec<(u32, u32)>,
 }
 
+/// Ward merges over `links`; merges inside a connected component (`component_of_region`) all come
+/// before merges across components, so components split only when K exceeds their count.
 fn ward_tree(
     weight: &[f64],
     mut centroid: Vec<f64>,
     dims: usize,
     links: &[(u32, u32)],
+    component_of_region: &[u32],
     k_min: usize,
 ) -> MergeTree {
     let n = weight.len();
@@ -137,7 +159,9 @@ fn ward_tree(
     alive.reserve(n);
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
     neighbours.reserve(n);
-    let mut heap: BinaryHeap<Reverse<(u64, u32, u32)>> = BinaryHeap::with_capacity(links.len());
+    // Components joined by merges so far; a cluster's component is that of its representative.
+    let mut joined = UnionFind::new(n);
+    let mut heap: BinaryHeap<Reverse<(u8, u64, u32, u32)>> = BinaryHeap::with_capacity(links.len());
     let ward = |weight: &[f64], centroid: &[f64], a: usize, b: usize| -> u64 {
         let (wa, wb) = (weight[a], weight[b]);
         let mut d2 = 0.0;
@@ -148,10 +172,17 @@ fn ward_tree(
         // Non-negative finite floats order like their bit patterns.
         (wa * wb / (wa + wb) * d2).to_bits()
     };
+    let tier = |joined: &mut UnionFind, representative: &[u32], a: usize, b: usize| -> u8 {
+        let ca = joined.find(component_of_region[representative[a] as usize]);
+        let cb = joined.find(component_of_region[representative[b] as usize]);
+        u8::from(ca != cb)
+    };
     for &(a, b) in links {
         neighbours[a as usize].push(b);
         neighbours[b as usize].push(a);
+        let t = tier(&mut joined, &representative, a as usize, b as usize);
         heap.push(Reverse((
+            t,
             ward(&weight, &centroid, a as usize, b as usize),
             a,
             b,
@@ -160,7 +191,7 @@ fn ward_tree(
     let mut merges = Vec::new();
     let mut clusters = n;
     while clusters > k_min {
-        let Some(Reverse((_, a, b))) = heap.pop() else {
+        let Some(Reverse((_, _, a, b))) = heap.pop() else {
             break;
         };
         let (a, b) = (a as usize, b as usize);
@@ -180,6 +211,10 @@ fn ward_tree(
         alive[b] = false;
         alive.push(true);
         merges.push((representative[a], representative[b]));
+        joined.union(
+            component_of_region[representative[a] as usize],
+            component_of_region[representative[b] as usize],
+        );
         representative.push(representative[a].min(representative[b]));
         let mut around: Vec<u32> = std::mem::take(&mut neighbours[a]);
         around.append(&mut std::mem::take(&mut neighbours[b]));
@@ -189,7 +224,13 @@ fn ward_tree(
         for &x in &around {
             neighbours[x as usize].retain(|&y| alive[y as usize]);
             neighbours[x as usize].push(m_id);
-            heap.push(Reverse((ward(&weight, &centroid, x as usize, m), x, m_id)));
+            let t = tier(&mut joined, &representative, x as usize, m);
+            heap.push(Reverse((
+                t,
+                ward(&weight, &centroid, x as usize, m),
+                x,
+                m_id,
+            )));
         }
         neighbours.push(around);
         clusters -= 1;
