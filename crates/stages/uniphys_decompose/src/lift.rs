@@ -1,23 +1,36 @@
 //! Lifting a view's 2D labels to mesh faces (reference §3.2): each face goes to the label with
 //! the most pixels on it, then labels that mostly lie on faces won by others are dissolved.
 
+use uniphys_geometry::{DVec3, TriMesh};
+use uniphys_render::{Camera, FaceIdImage};
+
+use crate::segment::LabelMap;
 use crate::{DecomposeError, DecomposeResult};
 
 /// Sorted, distinct face indices of the merged mesh.
 pub type FaceSet = Vec<u32>;
 
-/// Options of [`lift_labels`].
+/// Options of [`lift_labels`] and [`lift_view`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LiftOptions {
     /// A label is dissolved when more than this fraction of its area lies on faces won by other
     /// labels (default 0.5, the reference's "area merge").
     pub dissolve_fraction: f64,
+    /// [`lift_view`]: faces without a pixel vote by their centroid (default true).
+    pub subpixel_faces: bool,
+    /// Depth tolerance of a centroid vote in pixel footprints at its depth (default 2.0) ...
+    pub subpixel_depth_px: f64,
+    /// ... or as a fraction of the mesh diagonal, whichever is larger (default 0.005).
+    pub subpixel_depth_fraction: f64,
 }
 
 impl Default for LiftOptions {
     fn default() -> Self {
         Self {
             dissolve_fraction: 0.5,
+            subpixel_faces: true,
+            subpixel_depth_px: 2.0,
+            subpixel_depth_fraction: 0.005,
         }
     }
 }
@@ -54,17 +67,103 @@ pub fn lift_labels(
             labels.len()
         )));
     }
-    let face_count = face_area_m2.len();
-    let mut keys: Vec<u64> = face_ids
+    Ok(lift_keys(
+        pixel_keys(face_ids, labels, face_area_m2.len()),
+        face_area_m2,
+        options,
+    ))
+}
+
+/// Like [`lift_labels`] for a rendered view, and faces too small to own a pixel are not lost:
+/// with [`LiftOptions::subpixel_faces`], each face without pixels whose centroid projects onto
+/// a labelled pixel at that pixel's depth (within [`LiftOptions::subpixel_depth_px`] pixel
+/// footprints, or [`LiftOptions::subpixel_depth_fraction`] of the mesh diagonal if larger) and
+/// whose normal is within 45 degrees of that pixel's (either side) votes once for that pixel's
+/// label; the normal test keeps faces just behind a silhouette edge out. Without this, a finely tessellated part seen from two
+/// views gives two sparse, barely overlapping face samples that cross-view merging cannot match.
+pub fn lift_view(
+    mesh: &TriMesh,
+    camera: &Camera,
+    image: &FaceIdImage,
+    labels: &LabelMap,
+    face_area_m2: &[f64],
+    options: &LiftOptions,
+) -> DecomposeResult<Vec<FaceSet>> {
+    if image.face.len() != labels.labels.len() || image.depth_m.len() != image.face.len() {
+        return Err(DecomposeError::InvalidInput(format!(
+            "{} face-ID pixels, {} depths, {} labels",
+            image.face.len(),
+            image.depth_m.len(),
+            labels.labels.len()
+        )));
+    }
+    let face_count = face_area_m2.len().min(mesh.triangle_count());
+    let mut keys = pixel_keys(&image.face, &labels.labels, face_count);
+    if options.subpixel_faces {
+        let mut has_pixel = vec![false; face_count];
+        for &id in &image.face {
+            if let Some(seen) = (id as usize)
+                .checked_sub(1)
+                .and_then(|f| has_pixel.get_mut(f))
+            {
+                *seen = true;
+            }
+        }
+        let (w, h) = (image.width_px, image.height_px);
+        let footprint_per_m = 2.0 * (0.5 * camera.fov_y_rad).tan() / f64::from(h.max(1));
+        let floor_m = options.subpixel_depth_fraction * mesh.bounds().diagonal();
+        for (face, _) in has_pixel.iter().enumerate().filter(|&(_, &seen)| !seen) {
+            let [a, b, c] = mesh.corners(face);
+            let Some(p) = camera.project((a + b + c) / 3.0) else {
+                continue;
+            };
+            if !(0.0..f64::from(w)).contains(&p.x_px) || !(0.0..f64::from(h)).contains(&p.y_px) {
+                continue;
+            }
+            let k = p.y_px as usize * w as usize + p.x_px as usize;
+            let label = labels.labels[k];
+            let tolerance_m =
+                (options.subpixel_depth_px * footprint_per_m * p.depth_m).max(floor_m);
+            let seen_normal = image.normal_world.get(k).map_or(DVec3::ZERO, |n| {
+                DVec3::new(f64::from(n[0]), f64::from(n[1]), f64::from(n[2]))
+            });
+            let aligned = mesh.face_normal(face).dot(seen_normal).abs() >= SUBPIXEL_NORMAL_COS;
+            if label >= 0
+                && aligned
+                && (f64::from(image.depth_m[k]) - p.depth_m).abs() <= tolerance_m
+            {
+                keys.push(vote_key(face, label));
+            }
+        }
+    }
+    Ok(lift_keys(keys, face_area_m2, options))
+}
+
+/// |cos| of the largest angle between a sub-pixel face's normal and the visible normal at its
+/// centroid's pixel (45 degrees).
+const SUBPIXEL_NORMAL_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+fn vote_key(face: usize, label: i32) -> u64 {
+    ((face as u64) << 32) | u64::from(label.unsigned_abs())
+}
+
+/// One `face << 32 | label` key per labelled pixel on a face below `face_count`.
+fn pixel_keys(face_ids: &[u32], labels: &[i32], face_count: usize) -> Vec<u64> {
+    face_ids
         .iter()
         .zip(labels)
         .filter(|&(&f, &l)| f > 0 && (f as usize) <= face_count && l >= 0)
-        .map(|(&f, &l)| (u64::from(f - 1) << 32) | u64::from(l.unsigned_abs()))
-        .collect();
+        .map(|(&f, &l)| vote_key(f as usize - 1, l))
+        .collect()
+}
+
+/// The lifting itself, from one key per vote.
+fn lift_keys(mut keys: Vec<u64>, face_area_m2: &[f64], options: &LiftOptions) -> Vec<FaceSet> {
+    let face_count = face_area_m2.len();
     keys.sort_unstable();
     let votes = run_lengths(&keys);
     if votes.is_empty() {
-        return Ok(Vec::new());
+        return Vec::new();
     }
     let label_count = votes
         .iter()
@@ -140,14 +239,14 @@ pub fn lift_labels(
         owned[target].extend(moved);
     }
 
-    Ok(owned
+    owned
         .into_iter()
         .filter(|faces| !faces.is_empty())
         .map(|mut faces| {
             faces.sort_unstable();
             faces
         })
-        .collect())
+        .collect()
 }
 
 /// Counts of equal `face << 32 | label` keys in a sorted slice.
@@ -198,6 +297,7 @@ mod tests {
         // Dissolution off: only the vote is under test.
         let vote_only = LiftOptions {
             dissolve_fraction: 1.0,
+            ..LiftOptions::default()
         };
         let sets = lift_labels(&faces, &labels, &[1.0; 5], &vote_only).unwrap_or_default();
         assert_eq!(sets, vec![vec![0, 2], vec![1]]);
@@ -223,6 +323,7 @@ mod tests {
         // With a threshold above its outside share label 2 survives.
         let keep = LiftOptions {
             dissolve_fraction: 0.6,
+            ..LiftOptions::default()
         };
         let sets = lift_labels(&faces, &labels, &area, &keep).unwrap_or_default();
         assert_eq!(sets, vec![vec![0, 1], vec![2], vec![3]]);
@@ -246,5 +347,68 @@ mod tests {
     fn mismatched_buffers_are_an_error() {
         let result = lift_labels(&[1, 2], &[0], &[1.0, 1.0], &LiftOptions::default());
         assert!(matches!(result, Err(DecomposeError::InvalidInput(_))));
+    }
+}
+
+#[cfg(test)]
+mod view_tests {
+    use uniphys_geometry::DVec3;
+    use uniphys_render::{orbit_cameras, render_face_ids};
+
+    use super::*;
+    use crate::segment::test_meshes::fine_cuboid;
+
+    #[test]
+    fn faces_smaller_than_a_pixel_are_lifted_by_their_centroid_and_hidden_ones_are_not() {
+        // 19,200 triangles in a 64 px view: most own no pixel.
+        let mesh = fine_cuboid(DVec3::ZERO, DVec3::new(1.0, 0.8, 0.6), 40);
+        let camera = orbit_cameras(&mesh.bounds(), 8, 64, 64)[0];
+        let image = render_face_ids(&mesh, &camera);
+        let labels = LabelMap {
+            width_px: 64,
+            height_px: 64,
+            labels: image
+                .face
+                .iter()
+                .map(|&f| if f > 0 { 0 } else { -1 })
+                .collect(),
+        };
+        let area: Vec<f64> = (0..mesh.triangle_count())
+            .map(|f| mesh.face_area(f))
+            .collect();
+        let facing = |f: usize| {
+            let [a, b, c] = mesh.corners(f);
+            mesh.face_normal(f).dot(camera.eye_m - (a + b + c) / 3.0) > 0.0
+        };
+        let front = (0..mesh.triangle_count()).filter(|&f| facing(f)).count();
+        let lift = |subpixel_faces: bool| {
+            let options = LiftOptions {
+                subpixel_faces,
+                ..LiftOptions::default()
+            };
+            match lift_view(&mesh, &camera, &image, &labels, &area, &options) {
+                Ok(mut sets) if sets.len() == 1 => sets.remove(0),
+                other => panic!("one set expected: {other:?}"),
+            }
+        };
+        let pixels_only = lift(false);
+        let with_centroids = lift(true);
+        assert!(
+            pixels_only.len() * 2 < front,
+            "{} of {front}",
+            pixels_only.len()
+        );
+        // Faces along the silhouette may project just off the object or onto the other side.
+        assert!(
+            with_centroids.len() * 100 >= front * 95,
+            "{} of {front}",
+            with_centroids.len()
+        );
+        assert!(with_centroids.iter().all(|&f| facing(f as usize)));
+        assert!(
+            pixels_only
+                .iter()
+                .all(|f| with_centroids.binary_search(f).is_ok())
+        );
     }
 }

@@ -4,7 +4,7 @@
 use uniphys_geometry::TriMesh;
 
 use crate::consensus::{ConsensusOptions, merge_masks};
-use crate::lift::{FaceSet, LiftOptions, lift_labels};
+use crate::lift::{FaceSet, LiftOptions, lift_view};
 use crate::prior::{K_PRIOR_COVERAGE, k_prior};
 use crate::segment::{Segmenter, ViewImage};
 use crate::views::{ViewOptions, ViewSet, render_views};
@@ -117,7 +117,14 @@ pub fn perceive(
                 ),
             });
         }
-        lift_labels(&image.face, &labels.labels, &face_area_m2, &options.lift)
+        lift_view(
+            mesh,
+            &views.cameras[k],
+            image,
+            &labels,
+            &face_area_m2,
+            &options.lift,
+        )
     };
     let per_view = map_views(views.cameras.len(), options.threads, &lift_view)?;
 

@@ -14,9 +14,12 @@
 //! - a colour change: the shaded colours differ by more than a threshold; where the normals
 //!   differ, brightness is normalised first (Lambert shading only scales the colour).
 //!
-//! Each pixel pair votes; two faces are joined when most of their pixel pairs are continuous,
-//! so a few unlucky pixels neither split nor join surfaces. Regions smaller than a fraction of
-//! the foreground are unlabelled.
+//! Each pixel pair votes. Faces first form surface patches where every pair between them is
+//! smooth (near-parallel normals, nothing separating); then two patches are joined when a
+//! good share of the pixel pairs between them is continuous. Voting between whole patches rather than
+//! single triangles keeps a few ambiguous pixels (where an occlusion boundary runs into a
+//! contact crease, say) from joining two finely tessellated parts. Regions smaller than a
+//! fraction of the foreground are unlabelled.
 //!
 //! A concave crease inside one solid does not split it when the solid's other faces connect
 //! both sides: an L-shaped block stays one region in views that see its L-shaped side (all
@@ -33,6 +36,9 @@ use crate::{DecomposeError, DecomposeResult};
 /// Provider name of [`BuiltinSegmenter`].
 pub const BUILTIN_PROVIDER: &str = "builtin-render-segmenter";
 
+/// Continuous pixel pairs two surface patches need at least to be joined.
+pub const MIN_CONTINUOUS_PAIRS: usize = 3;
+
 /// Thresholds of the built-in segmenter; every distance is relative to the view.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuiltinOptions {
@@ -45,12 +51,18 @@ pub struct BuiltinOptions {
     /// Normals differing by more than this angle make a crease, which separates when concave
     /// (default 30 degrees, in radians).
     pub crease_angle_rad: f64,
+    /// Faces whose normals differ by less than this angle, with nothing separating them, form
+    /// one surface patch before patches vote on joining (default 15 degrees, in radians).
+    pub smooth_angle_rad: f64,
     /// Neighbouring colours further apart than this (Euclidean, sRGB in [0, 1]) separate
     /// (default 0.15).
     pub colour_distance: f64,
     /// Normals closer than this angle compare colours as they are; other pairs compare colours
     /// brought to the same brightness (default 5 degrees, in radians).
     pub same_shading_angle_rad: f64,
+    /// Two surface patches join when at least this share of the pixel pairs between them (and
+    /// at least [`MIN_CONTINUOUS_PAIRS`]) is continuous (default 0.25).
+    pub join_fraction: f64,
     /// Whether different face materials separate (default true).
     pub split_materials: bool,
     /// Regions smaller than this fraction of the foreground pixels are unlabelled (default
@@ -64,8 +76,10 @@ impl Default for BuiltinOptions {
             gap_px: 2.0,
             gap_fraction: 0.005,
             crease_angle_rad: 30f64.to_radians(),
+            smooth_angle_rad: 15f64.to_radians(),
             colour_distance: 0.15,
             same_shading_angle_rad: 5f64.to_radians(),
+            join_fraction: 0.25,
             split_materials: true,
             min_region_fraction: 0.002,
         }
@@ -140,8 +154,21 @@ impl Rays {
 /// How a pixel pair on two different faces voted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Vote {
+    /// One smooth surface: continuous and normals within the smooth angle.
+    Smooth,
+    /// Continuous across an edge (convex, or a crease too shallow to separate).
     Continuous,
+    /// A gap, occlusion, concave crease or colour change.
     Separated,
+}
+
+/// Key of an unordered pair of face ids (or patch roots), sorting by the smaller one.
+fn pair_key(a: u32, b: u32) -> u64 {
+    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
+}
+
+fn split_key(key: u64) -> (u32, u32) {
+    ((key >> 32) as u32, (key & 0xFFFF_FFFF) as u32)
 }
 
 fn segment_view(view: &ViewImage<'_>, options: &BuiltinOptions) -> DecomposeResult<LabelMap> {
@@ -188,6 +215,7 @@ fn segment_view(view: &ViewImage<'_>, options: &BuiltinOptions) -> DecomposeResu
         gap_px: options.gap_px,
         crease_cos: options.crease_angle_rad.cos(),
         same_shading_cos: options.same_shading_angle_rad.cos(),
+        smooth_cos: options.smooth_angle_rad.cos(),
         colour_distance: options.colour_distance,
     };
     let is_on = |k: usize| ids.face[k] != 0 && ids.depth_m[k].is_finite();
@@ -214,24 +242,48 @@ fn segment_view(view: &ViewImage<'_>, options: &BuiltinOptions) -> DecomposeResu
                     footprint_m: f64::from(ids.depth_m[k]) * rays.footprint_per_m,
                 };
                 let vote = classify(&sample(p, x, y), &sample(q, qx, qy), &thresholds);
-                let (a, b) = (ids.face[p].min(ids.face[q]), ids.face[p].max(ids.face[q]));
-                votes.push(((u64::from(a) << 32) | u64::from(b), vote));
+                votes.push((pair_key(ids.face[p], ids.face[q]), vote));
             }
         }
     }
     votes.sort_unstable();
 
+    // Stage 1, surface patches: faces joined where every pixel pair between them is smooth
+    // (same material, near-parallel normals, no gap, same colour). Stage 2: patches joined
+    // where a good share of the pixel pairs between them is continuous. Voting between whole
+    // patches, not between single (possibly tiny) triangles, keeps a few ambiguous pixel pairs,
+    // e.g. where an occlusion boundary meets a contact crease, from joining two parts. A share
+    // rather than a majority, because two patches of one solid often border each other twice:
+    // along their shared edge (continuous) and where one occludes the other (separated).
     let material = |face_id: u32| view.face_material.get(face_id as usize - 1).copied();
+    let same_material = |a: u32, b: u32| !options.split_materials || material(a) == material(b);
     let mut regions = UnionFind::new(max_face as usize + 1);
     for pair in votes.chunk_by(|a, b| a.0 == b.0) {
-        let separated = pair.iter().filter(|v| v.1 == Vote::Separated).count();
-        if 2 * separated >= pair.len() {
-            continue;
+        let (a, b) = split_key(pair[0].0);
+        if pair.iter().all(|v| v.1 == Vote::Smooth) && same_material(a, b) {
+            regions.union(a, b);
         }
-        let (a, b) = ((pair[0].0 >> 32) as u32, (pair[0].0 & 0xFFFF_FFFF) as u32);
-        if options.split_materials && material(a) != material(b) {
-            continue;
-        }
+    }
+    let mut patch_votes: Vec<(u64, Vote)> = votes
+        .iter()
+        .filter_map(|&(key, vote)| {
+            let (a, b) = split_key(key);
+            let (pa, pb) = (regions.find(a), regions.find(b));
+            (pa != pb).then(|| (pair_key(pa, pb), vote))
+        })
+        .collect();
+    patch_votes.sort_unstable();
+    let joins: Vec<(u32, u32)> = patch_votes
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|pair| {
+            let continuous = pair.iter().filter(|v| v.1 != Vote::Separated).count();
+            continuous >= MIN_CONTINUOUS_PAIRS
+                && continuous as f64 >= options.join_fraction * pair.len() as f64
+        })
+        .map(|pair| split_key(pair[0].0))
+        .filter(|&(a, b)| same_material(a, b))
+        .collect();
+    for (a, b) in joins {
         regions.union(a, b);
     }
     for (k, label) in map.labels.iter_mut().enumerate() {
@@ -260,6 +312,7 @@ struct Thresholds {
     gap_px: f64,
     crease_cos: f64,
     same_shading_cos: f64,
+    smooth_cos: f64,
     colour_distance: f64,
 }
 
@@ -287,7 +340,11 @@ fn classify(p: &Sample, q: &Sample, t: &Thresholds) -> Vote {
     {
         return Vote::Separated;
     }
-    Vote::Continuous
+    if cos >= t.smooth_cos {
+        Vote::Smooth
+    } else {
+        Vote::Continuous
+    }
 }
 
 /// Euclidean distance of two sRGB colours in [0, 1]; with `same_shading` false the darker colour
@@ -315,7 +372,8 @@ mod tests {
 
     use super::*;
     use crate::segment::test_meshes::{
-        CUBOID_FACES, box_with_flush_lid, box_with_inset_lid, l_shaped_solid,
+        CUBOID_FACES, body_drawer_handle, box_with_flush_lid, box_with_inset_lid, fine_cuboid,
+        l_shaped_solid,
     };
     use crate::views::{ViewOptions, ViewSet, render_views};
 
@@ -432,6 +490,75 @@ mod tests {
             }
         }
         assert_eq!(above, 4);
+    }
+
+    /// Per region: pixels on each part, parts being consecutive face ranges ending at `ends`.
+    fn part_pixels(map: &LabelMap, face_ids: &[u32], ends: &[usize]) -> Vec<Vec<usize>> {
+        let mut counts = vec![vec![0; ends.len()]; map.region_count()];
+        for (&label, &id) in map.labels.iter().zip(face_ids) {
+            if label >= 0 && id > 0 {
+                let part = ends.partition_point(|&end| end < id as usize);
+                counts[label as usize][part] += 1;
+            }
+        }
+        counts
+    }
+
+    /// Asserts every region lies (99 %) on one part and returns the parts the regions cover.
+    fn parts_of_regions(counts: &[Vec<usize>], what: &str) -> Vec<usize> {
+        counts
+            .iter()
+            .map(|c| {
+                let total: usize = c.iter().sum();
+                let (part, &most) = c
+                    .iter()
+                    .enumerate()
+                    .max_by_key(|&(_, n)| *n)
+                    .unwrap_or((0, &0));
+                assert!(most * 100 >= total * 99, "{what}: {counts:?}");
+                part
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_finely_tessellated_lid_is_still_its_own_region() {
+        // Small triangles: only a few pixel pairs per face pair, some of them ambiguous where
+        // the lid's occluding edge runs into its contact crease with the box top.
+        let body = fine_cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.6), 20);
+        let lid = fine_cuboid(DVec3::new(0.15, 0.15, 0.6), DVec3::new(0.85, 0.85, 0.7), 15);
+        let ends = [
+            body.triangle_count(),
+            body.triangle_count() + lid.triangle_count(),
+        ];
+        let mesh = TriMesh::merge([&body, &lid]);
+        let views = views_of(&mesh, &vec![[180, 180, 180, 255]; ends[1]], 192);
+        let maps = segment_all(&views, &[], &BuiltinSegmenter::default());
+        for (k, map) in maps.iter().enumerate() {
+            let counts = part_pixels(map, &views.face_ids[k].face, &ends);
+            let mut parts = parts_of_regions(&counts, &format!("view {k}"));
+            parts.sort_unstable();
+            let from_above = views.cameras[k].eye_m.z > views.cameras[k].target_m.z;
+            let expected = if from_above { vec![0, 1] } else { vec![0] };
+            assert_eq!(parts, expected, "view {k}: {counts:?}");
+        }
+    }
+
+    #[test]
+    fn a_drawer_front_and_its_handle_are_regions_of_their_own() {
+        // Views from the front (-y) see body, drawer front and handle; the others the body.
+        let mesh = body_drawer_handle();
+        let ends = [12, 24, 36];
+        let views = views_of(&mesh, &[[180, 180, 180, 255]; 36], 160);
+        let maps = segment_all(&views, &[], &BuiltinSegmenter::default());
+        for (k, map) in maps.iter().enumerate() {
+            let counts = part_pixels(map, &views.face_ids[k].face, &ends);
+            let mut parts = parts_of_regions(&counts, &format!("view {k}"));
+            parts.sort_unstable();
+            let from_front = views.cameras[k].eye_m.y < views.cameras[k].target_m.y;
+            let expected = if from_front { vec![0, 1, 2] } else { vec![0] };
+            assert_eq!(parts, expected, "view {k}: {counts:?}");
+        }
     }
 
     #[test]
