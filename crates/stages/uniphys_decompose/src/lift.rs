@@ -5,6 +5,7 @@ use uniphys_geometry::{DVec3, TriMesh};
 use uniphys_render::{Camera, FaceIdImage};
 
 use crate::segment::LabelMap;
+use crate::views::PixelRays;
 use crate::{DecomposeError, DecomposeResult};
 
 /// Sorted, distinct face indices of the merged mesh.
@@ -110,27 +111,25 @@ pub fn lift_view(
             }
         }
         let (w, h) = (image.width_px, image.height_px);
-        let footprint_per_m = 2.0 * (0.5 * camera.fov_y_rad).tan() / f64::from(h.max(1));
+        let rays = PixelRays::new(camera);
         let floor_m = options.subpixel_depth_fraction * mesh.bounds().diagonal();
         for (face, _) in has_pixel.iter().enumerate().filter(|&(_, &seen)| !seen) {
             let [a, b, c] = mesh.corners(face);
-            let Some(p) = camera.project((a + b + c) / 3.0) else {
+            let Some((x_px, y_px, depth_m)) = rays.project((a + b + c) / 3.0) else {
                 continue;
             };
-            if !(0.0..f64::from(w)).contains(&p.x_px) || !(0.0..f64::from(h)).contains(&p.y_px) {
+            if !(0.0..f64::from(w)).contains(&x_px) || !(0.0..f64::from(h)).contains(&y_px) {
                 continue;
             }
-            let k = p.y_px as usize * w as usize + p.x_px as usize;
+            let k = y_px as usize * w as usize + x_px as usize;
             let label = labels.labels[k];
             let tolerance_m =
-                (options.subpixel_depth_px * footprint_per_m * p.depth_m).max(floor_m);
+                (options.subpixel_depth_px * rays.footprint_per_m * depth_m).max(floor_m);
             let seen_normal = image.normal_world.get(k).map_or(DVec3::ZERO, |n| {
                 DVec3::new(f64::from(n[0]), f64::from(n[1]), f64::from(n[2]))
             });
             let aligned = mesh.face_normal(face).dot(seen_normal).abs() >= SUBPIXEL_NORMAL_COS;
-            if label >= 0
-                && aligned
-                && (f64::from(image.depth_m[k]) - p.depth_m).abs() <= tolerance_m
+            if label >= 0 && aligned && (f64::from(image.depth_m[k]) - depth_m).abs() <= tolerance_m
             {
                 keys.push(vote_key(face, label));
             }

@@ -1,7 +1,7 @@
 //! Multi-view renders of the merged mesh (reference §2): per view the visible face, depth and
 //! normal of every pixel, and a shaded colour image, from cameras around the object.
 
-use uniphys_geometry::{MeshAsset, TriMesh};
+use uniphys_geometry::{DMat3, DVec3, MeshAsset, TriMesh};
 use uniphys_render::{Camera, FaceIdImage, RgbaImage, orbit_cameras, render_face_ids, shade};
 
 use crate::{DecomposeError, DecomposeResult};
@@ -86,6 +86,62 @@ pub fn render_views(
         face_ids,
         colour,
     })
+}
+
+/// The pixel rays of a camera, precomputed: the point at pixel coordinates (x, y) and view
+/// depth d is `eye + d * (origin + x * step_x + y * step_y)` (pixel centres at +0.5).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PixelRays {
+    eye_m: DVec3,
+    origin: DVec3,
+    step_x: DVec3,
+    step_y: DVec3,
+    /// Inverse of the matrix with columns `origin`, `step_x`, `step_y` (projection).
+    inverse: DMat3,
+    near_m: f64,
+    /// Width of a pixel at a depth of 1 m, metres.
+    pub(crate) footprint_per_m: f64,
+}
+
+impl PixelRays {
+    /// The rays of `camera`, derived from [`Camera::unproject`].
+    pub(crate) fn new(camera: &Camera) -> Self {
+        let eye_m = camera.eye_m;
+        let at = |x: f64, y: f64| camera.unproject(x, y, 1.0) - eye_m;
+        let origin = at(0.0, 0.0);
+        let step_x = at(1.0, 0.0) - origin;
+        let step_y = at(0.0, 1.0) - origin;
+        Self {
+            eye_m,
+            origin,
+            step_x,
+            step_y,
+            inverse: DMat3::from_cols(origin, step_x, step_y).inverse(),
+            near_m: camera.near_m(),
+            footprint_per_m: step_x.length(),
+        }
+    }
+
+    /// The visible point of pixel `(x, y)` at `depth_m`, relative to the eye.
+    #[inline]
+    pub(crate) fn point(&self, x: usize, y: usize, depth_m: f32) -> DVec3 {
+        self.point_at(x as f64 + 0.5, y as f64 + 0.5, f64::from(depth_m))
+    }
+
+    /// The point at pixel coordinates `(x_px, y_px)` and view depth `depth_m`, relative to the
+    /// eye.
+    #[inline]
+    pub(crate) fn point_at(&self, x_px: f64, y_px: f64, depth_m: f64) -> DVec3 {
+        (self.origin + self.step_x * x_px + self.step_y * y_px) * depth_m
+    }
+
+    /// Pixel coordinates and view depth of a world point, `None` closer than the near plane
+    /// (as [`Camera::project`]).
+    #[inline]
+    pub(crate) fn project(&self, point_world_m: DVec3) -> Option<(f64, f64, f64)> {
+        let v = self.inverse * (point_world_m - self.eye_m);
+        (v.x >= self.near_m && v.x.is_finite()).then(|| (v.y / v.x, v.z / v.x, v.x))
+    }
 }
 
 /// Per-face colour of an asset's merged mesh (same face order as [`MeshAsset::merged`]): the
@@ -275,6 +331,31 @@ mod tests {
         assert_eq!(colours[14], [255, 255, 255, 255]);
         let ids = face_material_ids(&asset);
         assert_eq!((ids[0], ids[12]), (0, u32::MAX));
+    }
+
+    #[test]
+    fn pixel_rays_project_and_unproject_like_the_camera() {
+        let bounds = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.5, 0.3)).bounds();
+        for camera in uniphys_render::orbit_cameras(&bounds, 8, 40, 30) {
+            let rays = PixelRays::new(&camera);
+            for point in [
+                DVec3::ZERO,
+                DVec3::new(1.0, 0.5, 0.3),
+                DVec3::new(0.7, 0.1, 0.2),
+            ] {
+                let (Some(p), Some((x, y, depth))) = (camera.project(point), rays.project(point))
+                else {
+                    panic!("in front of the camera");
+                };
+                assert!((p.x_px - x).abs() < 1e-9 && (p.y_px - y).abs() < 1e-9);
+                assert!((p.depth_m - depth).abs() < 1e-9);
+                let back = camera.eye_m + rays.point_at(x, y, depth);
+                assert!(back.distance(point) < 1e-9, "{back} != {point}");
+            }
+            // Behind the camera.
+            let behind = camera.eye_m + (camera.eye_m - camera.target_m);
+            assert!(rays.project(behind).is_none() && camera.project(behind).is_none());
+        }
     }
 
     #[test]

@@ -31,6 +31,7 @@ use uniphys_geometry::DVec3;
 use super::masks::drop_small_regions;
 use super::{LabelMap, Segmenter, ViewImage};
 use crate::candidates::UnionFind;
+use crate::views::PixelRays;
 use crate::{DecomposeError, DecomposeResult};
 
 /// Provider name of [`BuiltinSegmenter`].
@@ -111,46 +112,6 @@ impl Segmenter for BuiltinSegmenter {
     }
 }
 
-/// Pixel rays of a camera: the point at pixel (x, y) and view depth d is
-/// `eye + d * (origin + (x + 0.5) * step_x + (y + 0.5) * step_y)`.
-struct Rays {
-    origin: DVec3,
-    step_x: DVec3,
-    step_y: DVec3,
-    /// Width of a pixel at depth 1.
-    footprint_per_m: f64,
-}
-
-impl Rays {
-    fn new(view: &ViewImage<'_>) -> Self {
-        let camera = view.camera;
-        let eye = camera.eye_m;
-        let at = |x: f64, y: f64| camera.unproject(x, y, 1.0) - eye;
-        let origin = at(0.0, 0.0);
-        let step_x = at(1.0, 0.0) - origin;
-        let step_y = at(0.0, 1.0) - origin;
-        Self {
-            origin,
-            step_x,
-            step_y,
-            footprint_per_m: step_x.length(),
-        }
-    }
-
-    /// The visible point of pixel `(x, y)` relative to the eye.
-    #[inline]
-    fn point(&self, x: usize, y: usize, depth_m: f32) -> DVec3 {
-        self.point_at(x as f64 + 0.5, y as f64 + 0.5, f64::from(depth_m))
-    }
-
-    /// The point at pixel coordinates `(x_px, y_px)` and view depth `depth_m`, relative to the
-    /// eye.
-    #[inline]
-    fn point_at(&self, x_px: f64, y_px: f64, depth_m: f64) -> DVec3 {
-        (self.origin + self.step_x * x_px + self.step_y * y_px) * depth_m
-    }
-}
-
 /// How a pixel pair on two different faces voted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Vote {
@@ -187,7 +148,7 @@ fn segment_view(view: &ViewImage<'_>, options: &BuiltinOptions) -> DecomposeResu
         });
     }
     let colour = (view.colour.pixels.len() == n).then_some(&view.colour.pixels);
-    let rays = Rays::new(view);
+    let rays = PixelRays::new(view.camera);
 
     // Object size: diagonal of the visible points' bounding box.
     let mut low = DVec3::splat(f64::INFINITY);
@@ -424,31 +385,6 @@ mod tests {
             }
         }
         counts
-    }
-
-    #[test]
-    fn pixel_rays_invert_the_camera_projection() {
-        let views = views_of(
-            &TriMesh::cuboid(DVec3::ZERO, DVec3::ONE),
-            &[[255; 4]; 12],
-            64,
-        );
-        let camera = &views.cameras[3];
-        let view = ViewImage {
-            index: 3,
-            camera,
-            face_ids: &views.face_ids[3],
-            colour: &views.colour[3],
-            face_material: &[],
-        };
-        let rays = Rays::new(&view);
-        for point in [DVec3::ZERO, DVec3::ONE, DVec3::new(0.2, 0.9, 0.4)] {
-            let Some(p) = camera.project(point) else {
-                panic!("in front of the camera");
-            };
-            let back = camera.eye_m + rays.point_at(p.x_px, p.y_px, p.depth_m);
-            assert!(back.distance(point) < 1e-9, "{back} != {point}");
-        }
     }
 
     #[test]
