@@ -39,8 +39,8 @@ pub struct DecomposeOptions {
     /// A mask holding at least this share of the area a view's masks cover is the whole object
     /// and is ignored (default 0.85).
     pub whole_object_fraction: f64,
-    /// Without any informative mask, K is the number of connected components holding at least
-    /// this share of the area (default 0.01).
+    /// Connected components holding at least this share of the area are counted as parts: K
+    /// starts at their count, and without any informative mask it is their count (default 0.01).
     pub component_area_fraction: f64,
     /// The merge of parts the views show together.
     pub apriori: AprioriOptions,
@@ -107,7 +107,19 @@ pub fn decompose(
     } else {
         vec![0; faces]
     };
-    let k_values = k_range(perception.k_prior, options.k_below, options.k_above, faces);
+    // Separate shells that each hold a share of the surface are parts unless the masks merge
+    // them later: K starts at their count (the built-in segmenter often sees one region where
+    // flush parts meet, which alone would make K = 1).
+    let k_geometric = substantial_components(mesh, options.component_area_fraction);
+    let k_values = {
+        let range = k_range(
+            perception.k_prior.max(k_geometric),
+            options.k_below,
+            options.k_above,
+            faces,
+        );
+        (*range.start()).max(k_geometric.min(*range.end()))..=*range.end()
+    };
     let request = CandidateRequest {
         mesh,
         face_rgba,
@@ -138,9 +150,8 @@ pub fn decompose(
             "masks",
         )
     } else {
-        let k = substantial_components(mesh, options.component_area_fraction);
         (
-            closest_k(&candidates, k)?,
+            closest_k(&candidates, k_geometric)?,
             "geometry (no view has a mask below the whole object)",
         )
     };
@@ -178,6 +189,7 @@ pub fn decompose(
         resolution_px: options.perception.views.resolution_px,
         masks: perception.merged.len(),
         k_prior: perception.k_prior,
+        k_geometric,
         k_range: [*k_values.start(), *k_values.end()],
         candidates: selection
             .losses

@@ -44,6 +44,8 @@ pub struct DecomposeSummary {
     pub masks: usize,
     /// Part-count prior K0.
     pub k_prior: usize,
+    /// Connected components holding at least 1 % of the area: the smallest K tried.
+    pub k_geometric: usize,
     /// Smallest and largest K asked of the generator.
     pub k_range: [usize; 2],
     /// Loss of every candidate.

@@ -45,7 +45,10 @@ pub fn split_disconnected(
             uf.union(a, b);
             uf.union(a, c);
         }
-        if eps_m > 0.0 {
+        let first = uf.find(0);
+        let one_piece =
+            (0..u32::try_from(vertices.len()).unwrap_or(u32::MAX)).all(|v| uf.find(v) == first);
+        if eps_m > 0.0 && !one_piece {
             join_close(mesh, &vertices, eps_m, &mut uf);
         }
         let roots: Vec<u32> = faces
@@ -86,23 +89,47 @@ fn join_close(mesh: &TriMesh, vertices: &[u32], eps_m: f64, uf: &mut UnionFind) 
         .map(|i| (cell(i), u32::try_from(i).unwrap_or(u32::MAX)))
         .collect();
     sorted.sort_unstable();
+    // Cells with the range of `sorted` they hold.
+    let mut cells: Vec<([i64; 3], usize, usize)> = Vec::new();
+    for (at, &(c, _)) in sorted.iter().enumerate() {
+        match cells.last_mut() {
+            Some(last) if last.0 == c => last.2 = at + 1,
+            _ => cells.push((c, at, at + 1)),
+        }
+    }
     let eps2 = eps_m * eps_m;
-    for &(c, i) in &sorted {
-        let p = mesh.positions[vertices[i as usize] as usize];
+    for &(c, lo, hi) in &cells {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                    let start = sorted.partition_point(|e| e.0 < key);
-                    for &(k, j) in &sorted[start..] {
-                        if k != key {
-                            break;
-                        }
-                        if j > i
-                            && p.distance_squared(mesh.positions[vertices[j as usize] as usize])
-                                <= eps2
-                        {
-                            uf.union(i, j);
+                    // Each pair of cells once.
+                    if key < c {
+                        continue;
+                    }
+                    let Ok(n) = cells.binary_search_by(|e| e.0.cmp(&key)) else {
+                        continue;
+                    };
+                    let (_, nlo, nhi) = cells[n];
+                    // Nothing to join when both cells already lie in one piece.
+                    let root = uf.find(sorted[lo].1);
+                    let joined = sorted[lo..hi]
+                        .iter()
+                        .chain(&sorted[nlo..nhi])
+                        .all(|&(_, v)| uf.find(v) == root);
+                    if joined {
+                        continue;
+                    }
+                    for &(_, i) in &sorted[lo..hi] {
+                        let p = mesh.positions[vertices[i as usize] as usize];
+                        for &(_, j) in &sorted[nlo..nhi] {
+                            if i != j
+                                && uf.find(i) != uf.find(j)
+                                && p.distance_squared(mesh.positions[vertices[j as usize] as usize])
+                                    <= eps2
+                            {
+                                uf.union(i, j);
+                            }
                         }
                     }
                 }

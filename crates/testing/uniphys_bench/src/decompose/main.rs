@@ -243,10 +243,14 @@ fn urdfs(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
 fn performance(args: &Args) -> anyhow::Result<()> {
     let example = uniphys_examples::example("cabinet").context("the cabinet example is missing")?;
     let mut asset = example.asset;
+    // One part at a time (smallest first), so the count lands near the target.
     while asset.triangle_count() < args.perf_triangles {
-        for part in &mut asset.parts {
-            part.mesh = subdivided(&part.mesh);
-        }
+        let Some(smallest) =
+            (0..asset.parts.len()).min_by_key(|&i| (asset.parts[i].mesh.triangle_count(), i))
+        else {
+            break;
+        };
+        asset.parts[smallest].mesh = subdivided(&asset.parts[smallest].mesh);
     }
     let (single, truth) = merged_with_truth(&asset);
     let options = DecomposeOptions {
@@ -283,9 +287,22 @@ fn performance(args: &Args) -> anyhow::Result<()> {
         println!("| {} | {:.3} |", timing.step, timing.secs);
     }
     println!("| **stage total (wall, incl. colours)** | **{wall:.3}** |");
+    let summary = &decomposition.summary;
     println!(
-        "\nparts found {} of {} true, area IoU {:.3}",
-        score.found_parts, score.true_parts, score.area_iou
+        "\nparts found {} of {} true, area IoU {:.3}; masks {}, informative views {}, K prior {}, matched K {} (by {}), refined {}, merged {} ({}), refined again {}, small parts merged {}",
+        score.found_parts,
+        score.true_parts,
+        score.area_iou,
+        summary.masks,
+        summary.informative_views,
+        summary.k_prior,
+        summary.matched_k,
+        summary.selected_by,
+        summary.refined_parts,
+        summary.merged_parts,
+        summary.merge_strategy,
+        summary.refined_again_parts,
+        summary.small_parts_merged
     );
     Ok(())
 }
