@@ -27,6 +27,9 @@ pub enum DecomposeError {
     /// A geometric computation failed.
     #[error(transparent)]
     Geometry(#[from] uniphys_geometry::GeometryError),
+    /// A remote vision service (SAM-compatible masks, PartField-compatible features) failed.
+    #[error(transparent)]
+    Vision(#[from] uniphys_vision::VisionError),
 }
 
 /// Result of the decomposition stage.

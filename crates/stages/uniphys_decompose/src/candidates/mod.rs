@@ -8,6 +8,7 @@
 pub mod adjacency;
 pub mod cluster;
 pub mod geometric;
+pub mod remote;
 
 use std::ops::RangeInclusive;
 
@@ -18,6 +19,7 @@ use crate::DecomposeResult;
 pub use adjacency::{FaceAdjacency, UnionFind, welded_vertex_ids};
 pub use cluster::{cluster_faces, cluster_regions};
 pub use geometric::{GeometricGenerator, GeometricOptions};
+pub use remote::PartFieldGenerator;
 
 /// One decomposition of the mesh into `k` parts.
 #[derive(Debug, Clone, PartialEq, Eq)]

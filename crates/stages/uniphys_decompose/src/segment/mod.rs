@@ -4,6 +4,7 @@
 
 pub mod builtin;
 pub mod masks;
+pub mod remote;
 #[cfg(test)]
 pub(crate) mod test_meshes;
 
@@ -13,6 +14,7 @@ use crate::DecomposeResult;
 
 pub use builtin::{BUILTIN_PROVIDER, BuiltinOptions, BuiltinSegmenter};
 pub use masks::{MaskOptions, PixelMask, label_map_from_masks};
+pub use remote::SamSegmenter;
 
 /// Label of pixels that belong to no region (background or ignored).
 pub const NO_LABEL: i32 = -1;
