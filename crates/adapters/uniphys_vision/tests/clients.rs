@@ -138,6 +138,25 @@ fn retryable_failures_are_retried_until_an_answer() {
 }
 
 #[test]
+fn retry_after_replaces_the_exponential_backoff() {
+    // Backoff of an hour, but the server says `Retry-After: 0`: the retry comes at once. (The
+    // 60 s guard only turns an ignored header into a failure instead of an hour-long test.)
+    let server = serve("sam_429_then_ok.json");
+    let config = ClientConfig {
+        initial_backoff: Duration::from_secs(3600),
+        max_backoff: Duration::from_secs(3600),
+        ..config(&server)
+    };
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || sender.send(ask_masks(config).map(|set| set.masks.len())));
+    let answer = receiver
+        .recv_timeout(Duration::from_secs(60))
+        .expect("Retry-After: 0 was not honoured: the client waits out its 1 h backoff");
+    assert_eq!(answer.unwrap(), 3);
+    assert_eq!(server.requests().len(), 2);
+}
+
+#[test]
 fn a_hung_request_times_out_and_is_retried() {
     let server = serve("sam_hang_then_ok.json");
     let config = ClientConfig {
