@@ -122,6 +122,18 @@ mod tests {
     }
 
     #[test]
+    fn values_outside_the_material_prior_are_kept_for_the_verifier() {
+        let mut heavy = part();
+        heavy.density = "7.8 g/cm^3".into();
+        heavy.friction_coefficient = 1.9;
+        let props = part_properties(&heavy, "m1");
+        let prior = MaterialCategory::Wood.prior().map(|p| p.density_kg_per_m3);
+        assert!(prior.is_some_and(|r| !r.contains(props.density_kg_per_m3.value)));
+        assert!((props.density_kg_per_m3.value - 7800.0).abs() < 1e-9);
+        assert!((props.friction_coefficient.value - 1.9).abs() < 1e-12);
+    }
+
+    #[test]
     fn unordered_dimensions_follow_the_mesh_extents_by_rank() {
         let answer = PropertiesAnswer {
             object_name: "box".into(),
