@@ -27,6 +27,9 @@ pub struct AprioriOptions {
     pub merge_overlap: f64,
     /// With more parts than this the normal merge is used. Default 100.
     pub max_parts: usize,
+    /// Drop itemsets whose parts some views show in different masks as often as views show them
+    /// together (the reference merges on co-occurrence alone). Default true.
+    pub require_consistency: bool,
 }
 
 impl Default for AprioriOptions {
@@ -38,6 +41,7 @@ impl Default for AprioriOptions {
             merge_iou: 0.2,
             merge_overlap: 0.5,
             max_parts: 100,
+            require_consistency: true,
         }
     }
 }
@@ -80,10 +84,15 @@ pub fn merge_parts(
             0,
         );
     }
-    let transactions: Vec<Vec<u32>> = per_view
+    let by_view: Vec<Vec<Vec<u32>>> = per_view
         .iter()
-        .flat_map(|masks| assigned_parts(face_part, parts, masks, face_area_m2, options))
+        .map(|masks| assigned_parts(face_part, parts, masks, face_area_m2, options))
+        .collect();
+    let transactions: Vec<Vec<u32>> = by_view
+        .iter()
+        .flatten()
         .filter(|t| !t.is_empty())
+        .cloned()
         .collect();
     let Some(itemsets) =
         frequent_itemsets(&transactions, options.min_support, options.itemset_budget)
@@ -95,6 +104,11 @@ pub fn merge_parts(
             "apriori itemset budget exceeded; used normal merge".to_owned(),
             transactions.len(),
         );
+    };
+    let itemsets = if options.require_consistency {
+        consistent(itemsets, &by_view, parts)
+    } else {
+        itemsets
     };
     let groups = greedy_groups(maximal(itemsets), &part_area, options);
     let mut group_of = vec![u32::MAX; parts];
@@ -253,6 +267,50 @@ fn frequent_itemsets(
     Some(all)
 }
 
+/// The itemsets that views show together (support) more often than apart: a view shows a set
+/// apart when its parts are assigned to two or more different masks of the view.
+fn consistent(
+    itemsets: Vec<(Vec<u32>, usize)>,
+    by_view: &[Vec<Vec<u32>>],
+    parts: usize,
+) -> Vec<(Vec<u32>, usize)> {
+    // Mask of every part in every view (u32::MAX: not assigned).
+    let mask_of: Vec<Vec<u32>> = by_view
+        .iter()
+        .map(|masks| {
+            let mut of = vec![u32::MAX; parts];
+            for (m, members) in masks.iter().enumerate() {
+                for &p in members {
+                    of[p as usize] = u32::try_from(m).unwrap_or(u32::MAX);
+                }
+            }
+            of
+        })
+        .collect();
+    itemsets
+        .into_iter()
+        .filter(|(set, support)| {
+            if set.len() < 2 {
+                return true;
+            }
+            let apart = mask_of
+                .iter()
+                .filter(|of| {
+                    let mut seen: Vec<u32> = set
+                        .iter()
+                        .map(|&p| of[p as usize])
+                        .filter(|&m| m != u32::MAX)
+                        .collect();
+                    seen.sort_unstable();
+                    seen.dedup();
+                    seen.len() >= 2
+                })
+                .count();
+            apart < *support
+        })
+        .collect()
+}
+
 /// Whether sorted `a` is a subset of sorted `b`.
 fn is_subset(a: &[u32], b: &[u32]) -> bool {
     let mut j = 0;
@@ -398,6 +456,38 @@ mod tests {
             &AprioriOptions::default(),
         );
         assert_eq!(groups, vec![vec![0, 1], vec![2]]);
+    }
+
+    #[test]
+    fn parts_that_other_views_show_apart_are_not_merged() {
+        // Parts 0 and 1 share a mask in 3 views but are in different masks in 3 others.
+        let face_part: Vec<u32> = (0..3).collect();
+        let areas = vec![1.0; 3];
+        let together = vec![vec![0, 1], vec![2]];
+        let apart = vec![vec![0], vec![1], vec![2]];
+        let per_view = vec![
+            together.clone(),
+            together.clone(),
+            together,
+            apart.clone(),
+            apart.clone(),
+            apart,
+        ];
+        let outcome = merge_parts(
+            &face_part,
+            &per_view,
+            &[],
+            &areas,
+            &AprioriOptions::default(),
+        );
+        assert_eq!(outcome.part_count, 3);
+        // The reference's rule (co-occurrence alone) merges them.
+        let reference = AprioriOptions {
+            require_consistency: false,
+            ..AprioriOptions::default()
+        };
+        let outcome = merge_parts(&face_part, &per_view, &[], &areas, &reference);
+        assert_eq!(outcome.face_part, vec![0, 0, 1]);
     }
 
     #[test]
