@@ -291,6 +291,23 @@ mod tests {
     }
 
     #[test]
+    fn an_attached_handle_joins_a_drawer_of_its_material_only() {
+        // Drawer front with a handle of 1 % of the area (not tiny, but attached).
+        let drawer = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.1, 1.0));
+        let handle = TriMesh::cuboid(DVec3::new(0.4, -0.02, 0.48), DVec3::new(0.6, 0.0, 0.52));
+        let mesh = TriMesh::merge([&drawer, &handle]);
+        let labels: Vec<u32> = (0..24).map(|f| u32::from(f >= 12)).collect();
+        let share = (12..24).map(|f| mesh.face_area(f)).sum::<f64>() / mesh.area();
+        assert!(share > 0.005 && share < 0.02, "{share}");
+        let options = SmallPartOptions::default();
+        let same = merge_small_parts(&mesh, &labels, &[0; 24], &options);
+        assert_eq!((same.1, same.2), (1, 1));
+        let steel: Vec<u32> = (0..24).map(|f| u32::from(f >= 12)).collect();
+        let different = merge_small_parts(&mesh, &labels, &steel, &options);
+        assert_eq!((different.1, different.2), (2, 0));
+    }
+
+    #[test]
     fn a_small_part_far_from_everything_stays() {
         let body = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
         let speck = TriMesh::cuboid(DVec3::splat(3.0), DVec3::splat(3.01));

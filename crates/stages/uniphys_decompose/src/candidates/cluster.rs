@@ -443,6 +443,36 @@ mod tests {
     }
 
     #[test]
+    fn components_split_only_after_every_component_is_whole() {
+        // Two boxes far apart, each cut into 6 side regions whose features pull the two tops
+        // together: still, K = 2 is the two boxes, and K = 3 splits inside one box.
+        let a = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let b = TriMesh::cuboid(DVec3::new(1.5, 0.0, 0.0), DVec3::new(2.5, 1.0, 1.0));
+        let mesh = TriMesh::merge([&a, &b]);
+        let regions: Vec<u32> = (0..24).map(|f| f / 2).collect();
+        // Feature: only "is a top face" (z normal up), so without the component rule the two tops
+        // (identical features) would merge first.
+        let features: Vec<f32> = (0..24)
+            .map(|f| {
+                if mesh.face_normal(f).z > 0.5 {
+                    10.0
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let candidates = cluster_regions(&mesh, &features, 1, &regions, 2..=3).unwrap();
+        let expected: Vec<u32> = (0..24).map(|f| u32::from(f >= 12)).collect();
+        assert_eq!(candidates[0].face_labels, expected);
+        let k3 = &candidates[1].face_labels;
+        assert!((0..12).all(|f| k3[f] == k3[0]) || (12..24).all(|f| k3[f] == k3[12]));
+        // A range entirely above the region count gives the finest decomposition.
+        let finest = cluster_regions(&mesh, &features, 1, &regions, 20..=30).unwrap();
+        assert_eq!(finest.len(), 1);
+        assert_eq!(finest[0].k, 12);
+    }
+
+    #[test]
     fn regions_stay_together_and_bad_input_is_refused() {
         let mesh = three_boxes();
         let features = position_features(&mesh);
