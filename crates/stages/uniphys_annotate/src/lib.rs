@@ -6,11 +6,12 @@
 //! - [`prompt`]: the versioned prompt files and how they are filled;
 //! - [`schema`]: the answers as serde types; [`validate`]: every schema violation with its path;
 //! - [`quantities`]: unit strings of the answers → SI; [`convert`]: answers → domain types;
-//! - [`colours`]: legend colour names → candidate index;
+//! - `colours`: legend colour names → candidate index;
 //! - [`motion_graph`]: movable parts, parents, co-moving groups and the issues of the answer;
 //! - [`articulation`]: candidates of a movable part and the model's choice among them;
 //! - `views`: the request images (part composites, candidate axes, candidate pivots);
 //! - `ask`: one request with validation and one repair turn;
+//! - `part_request`: one movable part's articulation request;
 //! - `stage`: [`annotate`], the whole stage;
 //! - `error`: [`AnnotateError`].
 
@@ -20,6 +21,7 @@ mod colours;
 pub mod convert;
 mod error;
 pub mod motion_graph;
+mod part_request;
 pub mod prompt;
 pub mod quantities;
 pub mod schema;

@@ -9,14 +9,15 @@ use uniphys_geometry::{Aabb, DVec3, TriMesh};
 use uniphys_lvlm::{ChatRequest, CostLedger, LedgerSummary, LvlmClient};
 use uniphys_types::{Joint, ObjectProperties, PartProperties};
 
-use crate::articulation::{Choice, candidates_for, fixed_joint, joint, resolve_choice};
+use crate::articulation::{fixed_joint, joint};
 use crate::ask::{Asked, ask_validated};
 use crate::convert::{lvlm_provenance, object_properties, part_properties, provider_name};
-use crate::motion_graph::{MotionGraph, MotionIssue, MovablePart, motion_graph};
-use crate::prompt::{ArticulationContext, PROMPT_VERSION, articulation_prompt, properties_prompt};
-use crate::schema::{ArticulationAnswer, PropertiesAnswer};
-use crate::validate::{Violation, validate_articulation, validate_properties};
-use crate::views::{AXIS_LEGEND, PIVOT_LEGEND, Scene, names};
+use crate::motion_graph::{MotionGraph, MotionIssue, motion_graph};
+use crate::part_request::{Context, PartError, PartOutcome};
+use crate::prompt::{PROMPT_VERSION, properties_prompt};
+use crate::schema::PropertiesAnswer;
+use crate::validate::{Violation, validate_properties};
+use crate::views::{Scene, render_composites};
 use crate::{AnnotateError, AnnotateResult};
 
 /// Most parts one properties request carries (reference section 5: more are never annotated).
@@ -287,56 +288,6 @@ pub fn annotate(
     })
 }
 
-/// The composites of all `n` parts, rendered on the available cores (parts dealt round-robin
-/// to threads); returns them in part order with the rendering time summed over threads.
-fn render_composites(scene: &Scene<'_>, n: usize) -> AnnotateResult<(Vec<Vec<u8>>, f64)> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, std::num::NonZeroUsize::get)
-        .min(n)
-        .max(1);
-    let rendered: Vec<(usize, AnnotateResult<Vec<u8>>, f64)> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..threads)
-            .map(|t| {
-                s.spawn(move || {
-                    (t..n)
-                        .step_by(threads)
-                        .map(|i| {
-                            let started = Instant::now();
-                            let png = scene.part_composite(i);
-                            (i, png, started.elapsed().as_secs_f64())
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
-    });
-    let mut slots: Vec<Option<Vec<u8>>> = vec![None; n];
-    let mut secs = 0.0;
-    for (i, png, elapsed) in rendered {
-        secs += elapsed;
-        if let Some(slot) = slots.get_mut(i) {
-            *slot = Some(png?);
-        }
-    }
-    let composites = slots
-        .into_iter()
-        .enumerate()
-        .map(|(i, png)| {
-            png.ok_or_else(|| {
-                AnnotateError::RenderFailed(format!(
-                    "the composite of part {} was not rendered (its thread panicked)",
-                    i + 1
-                ))
-            })
-        })
-        .collect::<AnnotateResult<Vec<_>>>()?;
-    Ok((composites, secs))
-}
-
 fn note_repair(repairs: &mut Vec<Repair>, subject: &str, violations: &[Violation]) {
     if !violations.is_empty() {
         repairs.push(Repair {
@@ -369,143 +320,4 @@ fn group_links(
             )
         })
         .collect()
-}
-
-enum PartError {
-    /// The stage cannot go on (budget, transport): returned as the stage's error.
-    Fatal(AnnotateError),
-    /// This part's joint could not be chosen.
-    Failed(String),
-}
-
-struct PartOutcome {
-    label: u32,
-    render_secs: f64,
-    images: usize,
-    result: Result<(Choice, Vec<Violation>), PartError>,
-}
-
-struct Context<'a> {
-    input: &'a AnnotateInput<'a>,
-    scene: &'a Scene<'a>,
-    composites: &'a [Vec<u8>],
-    answer: &'a PropertiesAnswer,
-    parts: &'a [PartProperties],
-    client: &'a LvlmClient,
-    ledger: &'a CostLedger,
-    options: &'a AnnotateOptions,
-    diagonal_m: f64,
-}
-
-impl Context<'_> {
-    fn articulate(&self, movable: &MovablePart) -> PartOutcome {
-        let mut outcome = PartOutcome {
-            label: movable.label,
-            render_secs: 0.0,
-            images: 0,
-            result: Err(PartError::Failed(String::new())),
-        };
-        outcome.result = self.choose(movable, &mut outcome.render_secs, &mut outcome.images);
-        outcome
-    }
-
-    fn choose(
-        &self,
-        movable: &MovablePart,
-        render_secs: &mut f64,
-        images: &mut usize,
-    ) -> Result<(Choice, Vec<Violation>), PartError> {
-        let index = (movable.label as usize).saturating_sub(1);
-        let revolute = movable.kind == uniphys_types::JointKind::Revolute;
-        let started = Instant::now();
-        let candidates = candidates_for(
-            movable,
-            self.input.part_meshes,
-            self.diagonal_m,
-            self.options.points_per_part,
-            self.options.seed,
-        )
-        .map_err(|e| PartError::Failed(format!("no articulation candidates: {e}")))?;
-        let (Ok(axes), Ok(pivots)) = (
-            <[DVec3; 10]>::try_from(candidates.axes.as_slice()),
-            <[DVec3; 6]>::try_from(candidates.pivots.as_slice()),
-        ) else {
-            return Err(PartError::Failed(format!(
-                "expected 10 axis and 6 pivot candidates, got {} and {}",
-                candidates.axes.len(),
-                candidates.pivots.len()
-            )));
-        };
-        let anchor = pivots[crate::articulation::CENTROID_PIVOT];
-        let mut pngs = vec![
-            self.composites.get(index).cloned().unwrap_or_default(),
-            self.scene
-                .axis_views(index, &axes, anchor)
-                .map_err(PartError::Fatal)?,
-        ];
-        if revolute {
-            pngs.push(
-                self.scene
-                    .pivot_views(index, &pivots)
-                    .map_err(PartError::Fatal)?,
-            );
-        }
-        *render_secs += started.elapsed().as_secs_f64();
-        *images += pngs.len() - 1;
-
-        let axis_names = names(&AXIS_LEGEND);
-        let pivot_names = names(&PIVOT_LEGEND);
-        let axes: Vec<(&str, [f64; 3])> = axis_names
-            .iter()
-            .zip(&candidates.axes)
-            .map(|(name, v)| (*name, v.to_array()))
-            .collect();
-        let part_name = self.answer.parts.get(index).map_or("", |p| p.name.as_str());
-        let default_descriptions = uniphys_types::Descriptions::default();
-        let descriptions = self
-            .parts
-            .get(index)
-            .map_or(&default_descriptions, |p| &p.descriptions);
-        let prompt = articulation_prompt(&ArticulationContext {
-            label: movable.label,
-            part_name,
-            object_name: &self.answer.object_name,
-            revolute,
-            descriptions,
-            axes,
-            pivots: pivot_names.to_vec(),
-        });
-        let request = ChatRequest {
-            system: prompt.system,
-            user_text: prompt.user_text,
-            images_png: pngs,
-            purpose: "articulation".into(),
-        };
-        let subject = format!("articulation of part {}", movable.label);
-        let validate = |v: &Value| validate_articulation(v, revolute, &axis_names, &pivot_names);
-        let asked: Asked<ArticulationAnswer> =
-            match ask_validated(self.client, self.ledger, &request, &subject, &validate) {
-                Ok(asked) => asked,
-                Err(AnnotateError::InvalidAnswer { violations, .. }) => {
-                    return Err(PartError::Failed(format!(
-                        "the answer is invalid after a repair turn: {}",
-                        violations
-                            .iter()
-                            .map(ToString::to_string)
-                            .collect::<Vec<_>>()
-                            .join("; ")
-                    )));
-                }
-                Err(other) => return Err(PartError::Fatal(other)),
-            };
-        let choice = resolve_choice(
-            &candidates,
-            &asked.answer,
-            revolute,
-            &axis_names,
-            &pivot_names,
-        )
-        .ok_or_else(|| PartError::Failed("the validated answer names no candidate".into()))?;
-        Ok((choice, asked.repaired))
-    }
 }

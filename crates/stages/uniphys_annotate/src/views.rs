@@ -9,7 +9,9 @@ use uniphys_render::lvlm_views::{
 };
 use uniphys_render::{encode_png, hstack, vstack};
 
-use crate::AnnotateResult;
+use std::time::Instant;
+
+use crate::{AnnotateError, AnnotateResult};
 
 /// Axis legend in candidate order: contact normal, six in-plane directions, then object X, Y, Z
 /// (Red, Green, Blue).
@@ -89,4 +91,54 @@ impl<'a> Scene<'a> {
         let views = pivot_candidate_views(&self.scene(), part, pivots, &self.options);
         Ok(encode_png(&hstack(&views, PANEL_GAP_PX, WHITE))?)
     }
+}
+
+/// The composites of all `n` parts, rendered on the available cores (parts dealt round-robin
+/// to threads); returns them in part order with the rendering time summed over threads.
+pub fn render_composites(scene: &Scene<'_>, n: usize) -> AnnotateResult<(Vec<Vec<u8>>, f64)> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZeroUsize::get)
+        .min(n)
+        .max(1);
+    let rendered: Vec<(usize, AnnotateResult<Vec<u8>>, f64)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                s.spawn(move || {
+                    (t..n)
+                        .step_by(threads)
+                        .map(|i| {
+                            let started = Instant::now();
+                            let png = scene.part_composite(i);
+                            (i, png, started.elapsed().as_secs_f64())
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_default())
+            .collect()
+    });
+    let mut slots: Vec<Option<Vec<u8>>> = vec![None; n];
+    let mut secs = 0.0;
+    for (i, png, elapsed) in rendered {
+        secs += elapsed;
+        if let Some(slot) = slots.get_mut(i) {
+            *slot = Some(png?);
+        }
+    }
+    let composites = slots
+        .into_iter()
+        .enumerate()
+        .map(|(i, png)| {
+            png.ok_or_else(|| {
+                AnnotateError::RenderFailed(format!(
+                    "the composite of part {} was not rendered (its thread panicked)",
+                    i + 1
+                ))
+            })
+        })
+        .collect::<AnnotateResult<Vec<_>>>()?;
+    Ok((composites, secs))
 }
