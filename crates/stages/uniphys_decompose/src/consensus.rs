@@ -47,8 +47,9 @@ struct Group {
 /// [`ConsensusOptions::overlap_min`] of the smaller one; the unions are the next pass's masks.
 /// Passes stop when one merges nothing. Masks that were not merged may still share faces; such a
 /// face goes to the merged mask with the most votes for it (the number of input masks containing
-/// it, i.e. of views that gave it to that mask), then to the larger mask by area, then to the
-/// earlier one. The result is sorted by area, largest first (ties: smaller first face); empty
+/// it, i.e. of views that gave it to that mask); on equal votes to the smaller mask by area (the
+/// more specific one: a view that separated a part outweighs one that missed the boundary, as
+/// smaller masks overwrite larger ones in the reference's label maps), then to the earlier one. The result is sorted by area, largest first (ties: smaller first face); empty
 /// masks are left out. Faces beyond `face_area_m2` are ignored.
 #[must_use]
 pub fn merge_masks(
@@ -178,7 +179,7 @@ fn merge_pass(
         .collect()
 }
 
-/// Gives every face to one group (most votes, then larger area, then earlier group) and sorts
+/// Gives every face to one group (most votes, then smaller area, then earlier group) and sorts
 /// the resulting sets by area, largest first.
 fn disjoint_face_sets(groups: &[Group], face_area_m2: &[f64]) -> Vec<FaceSet> {
     let mut owner: Vec<(u32, u32)> = vec![(u32::MAX, 0); face_area_m2.len()];
@@ -188,7 +189,7 @@ fn disjoint_face_sets(groups: &[Group], face_area_m2: &[f64]) -> Vec<FaceSet> {
             let slot = &mut owner[f as usize];
             let better = slot.0 == u32::MAX
                 || votes > slot.1
-                || (votes == slot.1 && group.area_m2 > groups[slot.0 as usize].area_m2);
+                || (votes == slot.1 && group.area_m2 < groups[slot.0 as usize].area_m2);
             if better {
                 *slot = (g, votes);
             }
@@ -270,10 +271,10 @@ mod tests {
             max_passes: 1,
             ..ConsensusOptions::default()
         };
-        // After one pass B keeps only the face nobody else has: its shared faces have one vote
-        // in each mask and go to the larger A + C.
+        // After one pass B's shared faces have one vote in B and one in A + C: the tie goes to
+        // the smaller, more specific B.
         let first = merge_masks(&masks, &area, &one_pass);
-        assert_eq!(first, vec![range(0..15), vec![30]]);
+        assert_eq!(first, vec![range(2..13), vec![0, 1, 13, 14, 30]]);
     }
 
     #[test]

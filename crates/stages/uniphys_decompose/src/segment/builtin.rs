@@ -5,7 +5,9 @@
 //! neighbouring pixels that lie on different faces, unless the two surfaces are separated there:
 //!
 //! - a gap or an occlusion: one surface lies in front of the other's tangent plane by more than
-//!   a threshold relative to the pixel footprint and to the object's visible size;
+//!   a threshold relative to the pixel footprint and to the object's visible size, or one lies
+//!   in front of the other's plane while the other lies behind the first's (a step or slot
+//!   too shallow for the threshold; along an edge of one surface both lie on the same side);
 //! - a concave crease: the surfaces' normals differ by more than the crease angle and each point
 //!   lies in front of the other's tangent plane (where a handle meets a body, a drawer front sits
 //!   in a frame, a lid sits on a box). Convex edges (each point behind the other's plane) never
@@ -36,6 +38,10 @@ use crate::{DecomposeError, DecomposeResult};
 
 /// Provider name of [`BuiltinSegmenter`].
 pub const BUILTIN_PROVIDER: &str = "builtin-render-segmenter";
+
+/// Heights above the other's tangent plane, in pixel footprints, that count as clearly in front
+/// or behind in the mixed-sign test of [`classify`].
+const MIXED_SIGN_PX: f64 = 0.5;
 
 /// Continuous pixel pairs two surface patches need at least to be joined.
 pub const MIN_CONTINUOUS_PAIRS: usize = 3;
@@ -286,6 +292,14 @@ fn classify(p: &Sample, q: &Sample, t: &Thresholds) -> Vote {
     let footprint_m = p.footprint_m.min(q.footprint_m);
     let gap_m = (t.gap_px * footprint_m).max(t.gap_floor_m);
     if q_above_p.max(p_above_q) > gap_m {
+        return Vote::Separated;
+    }
+    // Across an edge of one surface both heights have the sign of the edge (both <= 0 convex,
+    // both >= 0 concave). One point in front of the other's plane while the other is behind
+    // the first's means the surfaces pass each other: a step, slot or occluding edge, seen
+    // even when the depth jump is below the gap threshold.
+    let mixed_m = MIXED_SIGN_PX * footprint_m;
+    if q_above_p.max(p_above_q) > mixed_m && q_above_p.min(p_above_q) < -mixed_m {
         return Vote::Separated;
     }
     let cos = p.normal.dot(q.normal);
