@@ -12,7 +12,7 @@ use anyhow::Context;
 use clap::Parser;
 use uniphys_decompose::{
     BuiltinSegmenter, DecomposeOptions, GeometricGenerator, PerceptionOptions, ViewOptions,
-    decompose_asset, score_parts,
+    cluster_faces, decompose_asset, score_parts,
 };
 use uniphys_geometry::{DVec3, MeshAsset, MeshPart, TriMesh};
 use uniphys_mesh_io::{IngestOptions, load_asset};
@@ -287,6 +287,22 @@ fn performance(args: &Args) -> anyhow::Result<()> {
         println!("| {} | {:.3} |", timing.step, timing.secs);
     }
     println!("| **stage total (wall, incl. colours)** | **{wall:.3}** |");
+    // The per-face path (PartField-compatible features): Ward over every face, K = 1..=20.
+    let features: Vec<f32> = (0..mesh.triangle_count())
+        .flat_map(|f| {
+            let [a, b, c] = mesh.corners(f);
+            let centre = (a + b + c) / 3.0;
+            let normal = mesh.face_normal(f);
+            [centre.x, centre.y, centre.z, normal.x, normal.y, normal.z].map(|x| x as f32)
+        })
+        .collect();
+    let clock = Instant::now();
+    let per_face = cluster_faces(&mesh, &features, 6, 1..=20)?;
+    println!(
+        "| cluster_faces alone, per-face rows (6 dims), K = 1..=20 ({} candidates) | {:.3} |",
+        per_face.len(),
+        clock.elapsed().as_secs_f64()
+    );
     let summary = &decomposition.summary;
     println!(
         "\nparts found {} of {} true, area IoU {:.3}; masks {}, informative views {}, K prior {}, matched K {} (by {}), refined {}, merged {} ({}), refined again {}, small parts merged {}",
