@@ -68,6 +68,42 @@ impl Default for DecomposeOptions {
     }
 }
 
+impl DecomposeOptions {
+    /// Checks that every fraction is in its domain.
+    pub fn validate(&self) -> DecomposeResult<()> {
+        let fractions = [
+            ("refine_eps_rel", self.refine_eps_rel, 0.0, 1.0),
+            ("refine_again_eps_rel", self.refine_again_eps_rel, 0.0, 1.0),
+            (
+                "whole_object_fraction",
+                self.whole_object_fraction,
+                0.0,
+                1.0,
+            ),
+            (
+                "component_area_fraction",
+                self.component_area_fraction,
+                0.0,
+                1.0,
+            ),
+            ("apriori.coverage_min", self.apriori.coverage_min, 0.0, 1.0),
+        ];
+        for (name, value, low, high) in fractions {
+            if !(value.is_finite() && value >= low && value <= high) {
+                return Err(DecomposeError::InvalidOption(format!(
+                    "{name} = {value} is outside [{low}, {high}]"
+                )));
+            }
+        }
+        if self.whole_object_fraction <= 0.0 {
+            return Err(DecomposeError::InvalidOption(
+                "whole_object_fraction must be positive".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Decomposes `mesh` into parts. `face_rgba` has one colour per face, `face_material` one
 /// material per face or is empty. Deterministic for deterministic providers and the same seed
 /// (only the timings of the summary vary).
@@ -79,6 +115,7 @@ pub fn decompose(
     generator: &dyn CandidateGenerator,
     options: &DecomposeOptions,
 ) -> DecomposeResult<Decomposition> {
+    options.validate()?;
     let faces = mesh.triangle_count();
     if faces == 0 {
         return Err(DecomposeError::InvalidInput("the mesh has no faces".into()));

@@ -181,3 +181,21 @@ fn the_same_input_and_seed_give_the_same_parts() {
     b.timings.clear();
     assert_eq!(a, b);
 }
+
+#[test]
+fn options_out_of_their_domain_and_empty_meshes_are_refused() {
+    let segmenter = BuiltinSegmenter::default();
+    let generator = GeometricGenerator::default();
+    let bad = DecomposeOptions {
+        whole_object_fraction: 1.5,
+        ..options()
+    };
+    let input = asset(vec![cuboid([0.0; 3], [1.0; 3])]);
+    let error = decompose_asset(&input, &segmenter, &generator, &bad).unwrap_err();
+    assert!(
+        error.to_string().contains("whole_object_fraction"),
+        "{error}"
+    );
+    let empty = MeshAsset::default();
+    assert!(decompose_asset(&empty, &segmenter, &generator, &options()).is_err());
+}
