@@ -160,13 +160,14 @@ fn assigned_parts(
     options: &AprioriOptions,
 ) -> Vec<Vec<u32>> {
     let mut seen_area = vec![0.0f64; parts];
-    let mut counted = BTreeSet::new();
+    let mut counted = vec![false; face_part.len()];
     let mut inter = vec![0.0f64; masks.len() * parts];
     for (i, mask) in masks.iter().enumerate() {
         for &f in mask {
             let (p, a) = (face_part[f as usize] as usize, face_area_m2[f as usize]);
             inter[i * parts + p] += a;
-            if counted.insert(f) {
+            if !counted[f as usize] {
+                counted[f as usize] = true;
                 seen_area[p] += a;
             }
         }

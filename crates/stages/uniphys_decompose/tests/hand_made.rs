@@ -61,6 +61,14 @@ fn run(asset: &MeshAsset, truth: &[u32]) -> PartScore {
     let mesh = asset.merged();
     assert_eq!(decomposition.face_part.len(), mesh.triangle_count());
     assert_eq!(decomposed.parts.len(), decomposition.part_count);
+    assert!(decomposed.joints.is_empty());
+    assert!(
+        decomposed
+            .parts
+            .iter()
+            .enumerate()
+            .all(|(i, p)| p.name == format!("part_{i}"))
+    );
     assert_eq!(decomposed.triangle_count(), mesh.triangle_count());
     let areas: Vec<f64> = (0..mesh.triangle_count())
         .map(|f| mesh.face_area(f))
