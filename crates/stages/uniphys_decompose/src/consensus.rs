@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use crate::candidates::UnionFind;
 use crate::lift::FaceSet;
 
-/// Options of [`merge_masks`].
+/// Options of [`merge_masks`] and [`merge_view_masks`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConsensusOptions {
     /// Two masks merge when their area-weighted IoU is at least this (default 0.2).
@@ -16,6 +16,9 @@ pub struct ConsensusOptions {
     pub overlap_min: f64,
     /// Merge passes at most; merging stops earlier once a pass changes nothing (default 10).
     pub max_passes: usize,
+    /// [`merge_view_masks`] only: two masks that share faces also merge when their IoU counted
+    /// on the faces both masks' views saw reaches this (default 0.5; above 1 switches it off).
+    pub co_visible_iou_min: f64,
 }
 
 impl Default for ConsensusOptions {
@@ -24,6 +27,7 @@ impl Default for ConsensusOptions {
             iou_min: 0.2,
             overlap_min: 0.9,
             max_passes: 10,
+            co_visible_iou_min: 0.5,
         }
     }
 }
@@ -38,6 +42,8 @@ struct Group {
     /// `(face, votes)`, sorted by face.
     faces: Vec<(u32, u32)>,
     area_m2: f64,
+    /// Bit `v % 64` set for every view `v` that contributed a mask.
+    views: u64,
 }
 
 /// Merges the lifted masks of all views into disjoint face sets.
@@ -49,18 +55,59 @@ struct Group {
 /// face goes to the merged mask with the most votes for it (the number of input masks containing
 /// it, i.e. of views that gave it to that mask); on equal votes to the smaller mask by area (the
 /// more specific one: a view that separated a part outweighs one that missed the boundary, as
-/// smaller masks overwrite larger ones in the reference's label maps), then to the earlier one. The result is sorted by area, largest first (ties: smaller first face); empty
-/// masks are left out. Faces beyond `face_area_m2` are ignored.
+/// smaller masks overwrite larger ones in the reference's label maps), then to the earlier one.
+/// The result is sorted by area, largest first (ties: smaller first face); empty masks are left
+/// out. Faces beyond `face_area_m2` are ignored.
 #[must_use]
 pub fn merge_masks(
     masks: &[FaceSet],
     face_area_m2: &[f64],
     options: &ConsensusOptions,
 ) -> Vec<FaceSet> {
+    let masks: Vec<(u64, &FaceSet)> = masks.iter().map(|m| (0, m)).collect();
+    merge(&masks, face_area_m2, &[], options)
+}
+
+/// [`merge_masks`] over the masks of every view (`per_view[v]`, disjoint within a view), with
+/// one more reason to merge: two masks that share faces and whose IoU, counted only on faces
+/// that both masks' views saw (lifted to any mask there), reaches
+/// [`ConsensusOptions::co_visible_iou_min`]. The two sides of a thin part (a lid, a laptop
+/// base) are seen by disjoint views and share only their rim: their plain IoU is small, but
+/// on the faces both sets of views saw (the rim) they agree. Views beyond 64 share view bits.
+#[must_use]
+pub fn merge_view_masks(
+    per_view: &[Vec<FaceSet>],
+    face_area_m2: &[f64],
+    options: &ConsensusOptions,
+) -> Vec<FaceSet> {
+    let mut visible = vec![0u64; face_area_m2.len()];
+    let mut masks: Vec<(u64, &FaceSet)> = Vec::new();
+    for (v, view_masks) in per_view.iter().enumerate() {
+        let bit = 1u64 << (v % 64);
+        for mask in view_masks {
+            for &f in mask {
+                if let Some(bits) = visible.get_mut(f as usize) {
+                    *bits |= bit;
+                }
+            }
+            masks.push((bit, mask));
+        }
+    }
+    merge(&masks, face_area_m2, &visible, options)
+}
+
+/// The passes and the final face assignment; `visible` (per face, the bits of the views that
+/// saw it) is empty without view information.
+fn merge(
+    masks: &[(u64, &FaceSet)],
+    face_area_m2: &[f64],
+    visible: &[u64],
+    options: &ConsensusOptions,
+) -> Vec<FaceSet> {
     let area = |f: u32| face_area_m2.get(f as usize).copied().unwrap_or(0.0);
     let mut groups: Vec<Group> = masks
         .iter()
-        .map(|mask| {
+        .map(|&(views, mask)| {
             let mut faces: Vec<(u32, u32)> = mask
                 .iter()
                 .filter(|&&f| (f as usize) < face_area_m2.len())
@@ -69,13 +116,17 @@ pub fn merge_masks(
             faces.sort_unstable();
             faces.dedup();
             let area_m2 = faces.iter().map(|&(f, _)| area(f)).sum();
-            Group { faces, area_m2 }
+            Group {
+                faces,
+                area_m2,
+                views,
+            }
         })
         .filter(|g| !g.faces.is_empty())
         .collect();
 
     for _ in 0..options.max_passes {
-        let merged = merge_pass(&groups, &area, options);
+        let merged = merge_pass(&groups, &area, visible, options);
         if merged.len() == groups.len() {
             break;
         }
@@ -88,6 +139,7 @@ pub fn merge_masks(
 fn merge_pass(
     groups: &[Group],
     area: &dyn Fn(u32) -> f64,
+    visible: &[u64],
     options: &ConsensusOptions,
 ) -> Vec<Group> {
     let n = groups.len();
@@ -142,7 +194,17 @@ fn merge_pass(
         let smaller = a_i.min(a_j);
         let iou = if union > 0.0 { inter / union } else { 0.0 };
         let overlap = if smaller > 0.0 { inter / smaller } else { 0.0 };
-        if (iou >= options.iou_min || overlap > options.overlap_min) && uf.union(i, j) {
+        let merge = iou >= options.iou_min
+            || overlap > options.overlap_min
+            || (!visible.is_empty()
+                && co_visible_iou(
+                    &groups[i as usize],
+                    &groups[j as usize],
+                    inter,
+                    area,
+                    visible,
+                ) >= options.co_visible_iou_min);
+        if merge && uf.union(i, j) {
             unions += 1;
         }
     }
@@ -151,17 +213,16 @@ fn merge_pass(
     }
 
     // Components in the order of their smallest member (the union-find root).
-    let mut component_faces: BTreeMap<u32, Vec<(u32, u32)>> = BTreeMap::new();
+    let mut component_faces: BTreeMap<u32, (Vec<(u32, u32)>, u64)> = BTreeMap::new();
     for (g, group) in groups.iter().enumerate() {
         let root = uf.find(u32::try_from(g).unwrap_or(u32::MAX));
-        component_faces
-            .entry(root)
-            .or_default()
-            .extend_from_slice(&group.faces);
+        let entry = component_faces.entry(root).or_default();
+        entry.0.extend_from_slice(&group.faces);
+        entry.1 |= group.views;
     }
     component_faces
         .into_values()
-        .map(|mut faces| {
+        .map(|(mut faces, views)| {
             faces.sort_unstable();
             let mut summed: Vec<(u32, u32)> = Vec::with_capacity(faces.len());
             for (f, votes) in faces {
@@ -174,9 +235,36 @@ fn merge_pass(
             Group {
                 faces: summed,
                 area_m2,
+                views,
             }
         })
         .collect()
+}
+
+/// IoU of two groups sharing `inter_m2` of area, counted on the faces seen by views of both: a
+/// shared face was seen by both (it is in both), a face of one group counts when a view of the
+/// other saw it.
+fn co_visible_iou(
+    a: &Group,
+    b: &Group,
+    inter_m2: f64,
+    area: &dyn Fn(u32) -> f64,
+    visible: &[u64],
+) -> f64 {
+    let seen_by = |group: &Group, views: u64| -> f64 {
+        group
+            .faces
+            .iter()
+            .filter(|&&(f, _)| {
+                visible
+                    .get(f as usize)
+                    .is_some_and(|&bits| bits & views != 0)
+            })
+            .map(|&(f, _)| area(f))
+            .sum()
+    };
+    let union = seen_by(a, b.views) + seen_by(b, a.views) - inter_m2;
+    if union > 0.0 { inter_m2 / union } else { 0.0 }
 }
 
 /// Gives every face to one group (most votes, then smaller area, then earlier group) and sorts
@@ -284,5 +372,33 @@ mod tests {
         let masks = vec![range(0..4), range(0..4), range(3..13)];
         let merged = merge_masks(&masks, &[1.0; 13], &ConsensusOptions::default());
         assert_eq!(merged, vec![range(4..13), range(0..4)]);
+    }
+
+    #[test]
+    fn the_two_sides_of_a_thin_part_merge_on_the_faces_both_views_saw() {
+        // A slab: top 0..8 (seen from above, view 0), bottom 8..16 (seen from below, view 1),
+        // rim 16..20 (seen by both). Each view's mask is one side plus the rim: IoU 4 / 20.
+        let top: FaceSet = (0..8).chain(16..20).collect();
+        let bottom: FaceSet = (8..20).collect();
+        let area = [1.0; 20];
+        let options = ConsensusOptions {
+            iou_min: 0.25,
+            ..ConsensusOptions::default()
+        };
+        let plain = merge_masks(&[top.clone(), bottom.clone()], &area, &options);
+        assert_eq!(plain.len(), 2);
+        // On the faces both views saw (the rim) they agree: IoU 1.
+        let per_view = vec![vec![top.clone()], vec![bottom.clone()]];
+        assert_eq!(
+            merge_view_masks(&per_view, &area, &options),
+            vec![range(0..20)]
+        );
+        // A body mask beside the slab in both views, sharing one contaminated face with the
+        // top: both views saw the body, so most of it counts, and it stays apart.
+        let body: FaceSet = (19..40).collect();
+        let area = [1.0; 40];
+        let per_view = vec![vec![top, body.clone()], vec![bottom, body]];
+        let merged = merge_view_masks(&per_view, &area, &options);
+        assert_eq!(merged.len(), 2, "{merged:?}");
     }
 }

@@ -3,7 +3,7 @@
 
 use uniphys_geometry::TriMesh;
 
-use crate::consensus::{ConsensusOptions, merge_masks};
+use crate::consensus::{ConsensusOptions, merge_view_masks};
 use crate::lift::{FaceSet, LiftOptions, lift_view};
 use crate::prior::{K_PRIOR_COVERAGE, k_prior};
 use crate::segment::{Segmenter, ViewImage};
@@ -128,8 +128,7 @@ pub fn perceive(
     };
     let per_view = map_views(views.cameras.len(), options.threads, &lift_view)?;
 
-    let all: Vec<FaceSet> = per_view.iter().flatten().cloned().collect();
-    let merged = merge_masks(&all, &face_area_m2, &options.consensus);
+    let merged = merge_view_masks(&per_view, &face_area_m2, &options.consensus);
     if merged.is_empty() {
         return Err(DecomposeError::NoMasks);
     }

@@ -16,9 +16,9 @@ fn area_per_part(mask: &[u32], ends: &[usize], mesh: &TriMesh) -> Vec<f64> {
     area
 }
 
-/// Merged masks of the example as (main part, share of the mask's area on it), and the part
-/// names.
-fn merged_masks(name: &str) -> (Vec<(usize, f64)>, Vec<String>) {
+/// Merged masks of the example as (main part, share of the mask's area on it), the part names
+/// and the part-count prior.
+fn merged_masks(name: &str) -> (Vec<(usize, f64)>, Vec<String>, usize) {
     let Some(example) = example(name) else {
         panic!("no example {name}");
     };
@@ -57,7 +57,7 @@ fn merged_masks(name: &str) -> (Vec<(usize, f64)>, Vec<String>) {
         })
         .collect();
     let names = asset.parts.iter().map(|p| p.name.clone()).collect();
-    (masks, names)
+    (masks, names, perception.k_prior)
 }
 
 fn parts_found(masks: &[(usize, f64)]) -> Vec<usize> {
@@ -71,10 +71,11 @@ fn parts_found(masks: &[(usize, f64)]) -> Vec<usize> {
 fn the_lid_of_the_box_the_handle_of_the_mug_and_the_laptop_parts_are_found() {
     // The box's lid rests 1.5 mm above the walls, flush and of the same pine: the slot between
     // them (about 1.5 px) is the only cue. The mug's handle meets the body in concave creases.
-    // The thin lid and laptop slabs get one mask per side (seen from above and from below,
-    // their face sets barely overlap), so there are more masks than parts.
+    // The thin lid and laptop slabs are seen from above and from below by different views;
+    // their two sides merge on the faces both sets of views saw. One mask per part, and the
+    // prior is the part count.
     for (name, parts) in [("box_with_lid", 2), ("mug", 2), ("laptop", 3)] {
-        let (masks, names) = merged_masks(name);
+        let (masks, names, k_prior) = merged_masks(name);
         assert_eq!(names.len(), parts);
         for &(part, share) in &masks {
             assert!(
@@ -88,6 +89,7 @@ fn the_lid_of_the_box_the_handle_of_the_mug_and_the_laptop_parts_are_found() {
             (0..parts).collect::<Vec<_>>(),
             "{name}"
         );
+        assert_eq!((masks.len(), k_prior), (parts, parts), "{name}: {masks:?}");
     }
 }
 
@@ -96,7 +98,7 @@ fn the_cabinet_handles_are_found_and_its_flush_doors_are_not() {
     // Drawer and door sit flush in the carcass behind 2 mm gaps, under one pixel at 512 px: the
     // render cannot tell them from the carcass (the geometric candidates must). The steel
     // handles stand out.
-    let (masks, names) = merged_masks("cabinet");
+    let (masks, names, _) = merged_masks("cabinet");
     let handles: Vec<usize> = ["drawer_handle", "door_handle"]
         .iter()
         .filter_map(|h| names.iter().position(|n| n == h))
