@@ -5,9 +5,10 @@
 //! median over runs (release profile, one thread) of the whole 8-view work: rendering (face IDs
 //! and shading), built-in segmentation, lifting (with sub-pixel faces) and cross-view consensus,
 //! with the regions, merged masks and K prior found (the object has 4 parts; the knob is about
-//! 1 % of the visible area, below the prior's 99 % coverage); for contrast, the merged masks
-//! when only faces owning a pixel are lifted and merged by the reference rule alone. The floor row reads every pixel of the 8 face-ID images once
-//! (the least any per-pixel pass can cost).
+//! 1 % of the visible area, below the prior's 99 % coverage). For contrast, `merged_px_only`:
+//! the merged masks when only faces owning a pixel are lifted and the reference rule alone
+//! merges them. `floor_ms` reads every pixel of the 8 face-ID images once (the least any
+//! per-pixel pass can cost).
 
 use std::time::Instant;
 
