@@ -47,7 +47,8 @@ pub struct Perception {
     pub per_view: Vec<Vec<FaceSet>>,
     /// The masks merged across views: disjoint, largest area first.
     pub merged: Vec<FaceSet>,
-    /// Per face, whether any view shows at least one of its pixels.
+    /// Per face, whether any view shows at least one of its pixels or lifted it to a mask (a
+    /// face smaller than a pixel, by its centroid).
     pub visible_faces: Vec<bool>,
     /// K0, the number of largest merged masks covering more than the coverage of their area.
     pub k_prior: usize,
@@ -127,6 +128,11 @@ pub fn perceive(
         )
     };
     let per_view = map_views(views.cameras.len(), options.threads, &lift_view)?;
+    for &f in per_view.iter().flatten().flatten() {
+        if let Some(seen) = visible_faces.get_mut(f as usize) {
+            *seen = true;
+        }
+    }
 
     let merged = merge_view_masks(&per_view, &face_area_m2, &options.consensus);
     if merged.is_empty() {
