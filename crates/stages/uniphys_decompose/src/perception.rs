@@ -7,7 +7,7 @@ use crate::consensus::{ConsensusOptions, merge_view_masks};
 use crate::lift::{FaceSet, LiftOptions, lift_view};
 use crate::prior::{K_PRIOR_COVERAGE, k_prior};
 use crate::segment::{Segmenter, ViewImage};
-use crate::views::{ViewOptions, ViewSet, render_views};
+use crate::views::{ViewOptions, ViewSet, map_views, render_views_on};
 use crate::{DecomposeError, DecomposeResult};
 
 /// Options of [`perceive`].
@@ -21,8 +21,8 @@ pub struct PerceptionOptions {
     pub consensus: ConsensusOptions,
     /// Coverage that sets the part-count prior (default [`K_PRIOR_COVERAGE`], 0.99).
     pub k_coverage: f64,
-    /// Threads segmenting and lifting views (default 1; views are independent, the result does
-    /// not depend on the thread count).
+    /// Threads rendering, segmenting and lifting views (default 1; views are independent, the
+    /// result does not depend on the thread count).
     pub threads: usize,
 }
 
@@ -76,7 +76,7 @@ pub fn perceive(
             face_material.len()
         )));
     }
-    let views = render_views(mesh, face_rgba, &options.views)?;
+    let views = render_views_on(mesh, face_rgba, &options.views, options.threads)?;
     let mut visible_faces = vec![false; faces];
     for image in &views.face_ids {
         for &id in &image.face {
@@ -147,61 +147,6 @@ pub fn perceive(
         k_prior,
         provider: segmenter.provider(),
     })
-}
-
-/// `work(k)` for every view `k`, in view order, on up to `threads` scoped threads (view `k` on
-/// thread `k % threads`). The first error in view order wins.
-fn map_views<T: Send>(
-    count: usize,
-    threads: usize,
-    work: &(dyn Fn(usize) -> DecomposeResult<T> + Sync),
-) -> DecomposeResult<Vec<T>> {
-    let threads = threads.clamp(1, count.max(1));
-    if threads == 1 {
-        return (0..count).map(work).collect();
-    }
-    let mut slots: Vec<Option<DecomposeResult<T>>> = (0..count).map(|_| None).collect();
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|t| {
-                scope.spawn(move || {
-                    (t..count)
-                        .step_by(threads)
-                        .map(|k| (k, work(k)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        for (t, handle) in handles.into_iter().enumerate() {
-            match handle.join() {
-                Ok(results) => {
-                    for (k, result) in results {
-                        slots[k] = Some(result);
-                    }
-                }
-                Err(_) => {
-                    for k in (t..count).step_by(threads) {
-                        slots[k] = Some(Err(DecomposeError::Segmentation {
-                            view: k,
-                            message: "the segmenting thread panicked".into(),
-                        }));
-                    }
-                }
-            }
-        }
-    });
-    slots
-        .into_iter()
-        .enumerate()
-        .map(|(k, slot)| {
-            slot.unwrap_or_else(|| {
-                Err(DecomposeError::Segmentation {
-                    view: k,
-                    message: "view was not segmented".into(),
-                })
-            })
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -47,6 +47,16 @@ pub fn render_views(
     face_rgba: &[[u8; 4]],
     options: &ViewOptions,
 ) -> DecomposeResult<ViewSet> {
+    render_views_on(mesh, face_rgba, options, 1)
+}
+
+/// [`render_views`] on up to `threads` threads (same result).
+pub(crate) fn render_views_on(
+    mesh: &TriMesh,
+    face_rgba: &[[u8; 4]],
+    options: &ViewOptions,
+    threads: usize,
+) -> DecomposeResult<ViewSet> {
     let faces = mesh.triangle_count();
     if faces == 0 {
         return Err(DecomposeError::InvalidInput("the mesh has no faces".into()));
@@ -71,21 +81,73 @@ pub fn render_views(
     }
     let side = options.resolution_px;
     let cameras = orbit_cameras(&mesh.bounds(), options.count, side, side);
-    let face_ids: Vec<FaceIdImage> = cameras
-        .iter()
-        .map(|camera| render_face_ids(mesh, camera))
-        .collect();
     let colour_of = |face: usize| face_rgba.get(face).copied().unwrap_or([0, 0, 0, 0]);
-    let colour = face_ids
-        .iter()
-        .zip(&cameras)
-        .map(|(image, camera)| shade(image, camera, &colour_of))
-        .collect();
+    let rendered = map_views(cameras.len(), threads, &|k| {
+        let image = render_face_ids(mesh, &cameras[k]);
+        let colour = shade(&image, &cameras[k], &colour_of);
+        Ok((image, colour))
+    })?;
+    let (face_ids, colour): (Vec<FaceIdImage>, Vec<RgbaImage>) = rendered.into_iter().unzip();
     Ok(ViewSet {
         cameras,
         face_ids,
         colour,
     })
+}
+
+/// `work(k)` for every view `k`, in view order, on up to `threads` scoped threads (view `k` on
+/// thread `k % threads`). The first error in view order wins.
+pub(crate) fn map_views<T: Send>(
+    count: usize,
+    threads: usize,
+    work: &(dyn Fn(usize) -> DecomposeResult<T> + Sync),
+) -> DecomposeResult<Vec<T>> {
+    let threads = threads.clamp(1, count.max(1));
+    if threads == 1 {
+        return (0..count).map(work).collect();
+    }
+    let mut slots: Vec<Option<DecomposeResult<T>>> = (0..count).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                scope.spawn(move || {
+                    (t..count)
+                        .step_by(threads)
+                        .map(|k| (k, work(k)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for (t, handle) in handles.into_iter().enumerate() {
+            match handle.join() {
+                Ok(results) => {
+                    for (k, result) in results {
+                        slots[k] = Some(result);
+                    }
+                }
+                Err(_) => {
+                    for k in (t..count).step_by(threads) {
+                        slots[k] = Some(Err(DecomposeError::Segmentation {
+                            view: k,
+                            message: "the thread working on the view panicked".into(),
+                        }));
+                    }
+                }
+            }
+        }
+    });
+    slots
+        .into_iter()
+        .enumerate()
+        .map(|(k, slot)| {
+            slot.unwrap_or_else(|| {
+                Err(DecomposeError::Segmentation {
+                    view: k,
+                    message: "the view was not processed".into(),
+                })
+            })
+        })
+        .collect()
 }
 
 /// The pixel rays of a camera, precomputed: the point at pixel coordinates (x, y) and view
