@@ -17,11 +17,15 @@
 //!   differ, brightness is normalised first (Lambert shading only scales the colour).
 //!
 //! Each pixel pair votes. Faces first form surface patches where every pair between them is
-//! smooth (near-parallel normals, nothing separating); then two patches are joined when a
-//! good share of the pixel pairs between them is continuous. Voting between whole patches rather than
-//! single triangles keeps a few ambiguous pixels (where an occlusion boundary runs into a
+//! smooth (near-parallel normals, nothing separating); then two patches are joined when a good
+//! share of the pixel pairs between them is continuous. Voting between whole patches rather
+//! than single triangles keeps a few ambiguous pixels (where an occlusion boundary runs into a
 //! contact crease, say) from joining two finely tessellated parts. Regions smaller than a
 //! fraction of the foreground are unlabelled.
+//!
+//! Known limits: parts flush with their neighbours and of the same material and colour are
+//! separated only by a gap of at least about a pixel (a 2 mm gap on a 0.9 m cabinet at 512 px
+//! is not); colour boundaries under strong per-face texture noise can leak.
 //!
 //! A concave crease inside one solid does not split it when the solid's other faces connect
 //! both sides: an L-shaped block stays one region in views that see its L-shaped side (all
