@@ -80,8 +80,9 @@ pub fn lift_labels(
 /// a labelled pixel at that pixel's depth (within [`LiftOptions::subpixel_depth_px`] pixel
 /// footprints, or [`LiftOptions::subpixel_depth_fraction`] of the mesh diagonal if larger) and
 /// whose normal is within 45 degrees of that pixel's (either side) votes once for that pixel's
-/// label; the normal test keeps faces just behind a silhouette edge out. Without this, a finely tessellated part seen from two
-/// views gives two sparse, barely overlapping face samples that cross-view merging cannot match.
+/// label; the normal test keeps faces just behind a silhouette edge out. Without this, a finely
+/// tessellated part seen from two views gives two sparse, barely overlapping face samples that
+/// cross-view merging cannot match.
 pub fn lift_view(
     mesh: &TriMesh,
     camera: &Camera,
