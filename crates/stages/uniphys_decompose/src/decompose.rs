@@ -14,7 +14,8 @@ use crate::prior::k_range;
 use crate::refine::split_disconnected;
 use crate::segment::Segmenter;
 use crate::select::{
-    closest_k, select_candidate, substantial_components, without_whole_object_masks,
+    closest_k, select_candidate, substantial_components, visible_area_m2,
+    without_whole_object_masks,
 };
 use crate::small_parts::{SmallPartOptions, merge_small_parts};
 use crate::views::{face_colours, face_material_ids};
@@ -144,6 +145,26 @@ pub fn decompose(
     } else {
         vec![0; faces]
     };
+    let face_area_m2: Vec<f64> = (0..faces).map(|f| mesh.face_area(f)).collect();
+    let per_view = without_whole_object_masks(
+        &perception.per_view,
+        &face_area_m2,
+        options.whole_object_fraction,
+    );
+    let merged_masks = without_whole_object_masks(
+        std::slice::from_ref(&perception.merged),
+        &face_area_m2,
+        options.whole_object_fraction,
+    )
+    .pop()
+    .unwrap_or_default();
+    let informative_views = per_view.iter().filter(|v| !v.is_empty()).count();
+    let seen_m2 = visible_area_m2(&perception.per_view, &face_area_m2);
+    let mask_coverage = if seen_m2 > 0.0 {
+        visible_area_m2(&per_view, &face_area_m2) / seen_m2
+    } else {
+        0.0
+    };
     // Separate shells that each hold a share of the surface are parts unless the masks merge
     // them later: K starts at their count (the built-in segmenter often sees one region where
     // flush parts meet, which alone would make K = 1).
@@ -167,20 +188,6 @@ pub fn decompose(
     let candidates = generator.candidates(&request)?;
     lap("candidates", &mut timings);
 
-    let face_area_m2: Vec<f64> = (0..faces).map(|f| mesh.face_area(f)).collect();
-    let per_view = without_whole_object_masks(
-        &perception.per_view,
-        &face_area_m2,
-        options.whole_object_fraction,
-    );
-    let merged_masks = without_whole_object_masks(
-        std::slice::from_ref(&perception.merged),
-        &face_area_m2,
-        options.whole_object_fraction,
-    )
-    .pop()
-    .unwrap_or_default();
-    let informative_views = per_view.iter().filter(|v| !v.is_empty()).count();
     let (selection, selected_by) = if informative_views > 0 {
         (
             select_candidate(&candidates, &per_view, &face_area_m2)?,
@@ -227,6 +234,7 @@ pub fn decompose(
         masks: perception.merged.len(),
         k_prior: perception.k_prior,
         k_geometric,
+        mask_coverage,
         k_range: [*k_values.start(), *k_values.end()],
         candidates: selection
             .losses

@@ -46,6 +46,8 @@ pub struct DecomposeSummary {
     pub k_prior: usize,
     /// Connected components holding at least 1 % of the area: the smallest K tried.
     pub k_geometric: usize,
+    /// Share of the seen surface covered by masks below the whole object.
+    pub mask_coverage: f64,
     /// Smallest and largest K asked of the generator.
     pub k_range: [usize; 2],
     /// Loss of every candidate.
