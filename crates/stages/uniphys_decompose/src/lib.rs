@@ -14,7 +14,9 @@
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size;
 //! - [`decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
-//!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark).
+//!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
+//! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
+//!   face-to-part map applied to its asset.
 
 pub mod apriori;
 pub mod candidates;
@@ -32,6 +34,7 @@ pub mod score;
 pub mod segment;
 pub mod select;
 pub mod small_parts;
+pub mod split;
 pub mod views;
 
 pub use candidates::{
@@ -46,4 +49,5 @@ pub use policy::{DecomposeMode, FRAGMENTED_PART_COUNT, needs_decomposition};
 pub use prior::k_range;
 pub use score::{PartScore, score_parts};
 pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
+pub use split::split_asset;
 pub use views::{ViewOptions, ViewSet, face_colours, render_views};
