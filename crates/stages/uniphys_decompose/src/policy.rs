@@ -45,8 +45,7 @@ impl DecomposeMode {
 /// nodes, OBJ groups, URDF links), keep their own structure.
 #[must_use]
 pub fn needs_decomposition(asset: &MeshAsset) -> bool {
-    asset.joints.is_empty()
-        && (asset.parts.len() == 1 || asset.parts.len() > FRAGMENTED_PART_COUNT)
+    asset.joints.is_empty() && (asset.parts.len() == 1 || asset.parts.len() > FRAGMENTED_PART_COUNT)
 }
 
 #[cfg(test)]

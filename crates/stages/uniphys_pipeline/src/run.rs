@@ -8,7 +8,10 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-use uniphys_decompose::{BuiltinSegmenter, DecomposeOptions, GeometricGenerator, decompose_asset};
+use uniphys_decompose::{
+    BuiltinSegmenter, DecomposeMode, DecomposeOptions, GeometricGenerator, decompose_asset,
+    split_asset,
+};
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
     ConvexParams, MassProperties, MeshAsset, TriMesh, VolumeMethod, convex_decomposition,
@@ -50,6 +53,12 @@ pub struct RunOptions {
     /// the decomposed parts replace the input's parts and its declared joints are dropped (they
     /// name the old parts). `None` (default) keeps the input's parts and joints.
     pub decompose: Option<DecomposeOptions>,
+    /// Which inputs `decompose` applies to (`Always`: every input; `Auto`: one-piece or
+    /// fragmented inputs without joints).
+    pub decompose_mode: DecomposeMode,
+    /// A face-to-part map of the input's merged mesh computed earlier (the queue's `decompose`
+    /// stage): applied right after ingest instead of decomposing again.
+    pub face_parts: Option<Vec<u32>>,
 }
 
 impl Default for RunOptions {
@@ -63,6 +72,8 @@ impl Default for RunOptions {
             lvlm: None,
             verify: VerifyOptions::default(),
             decompose: None,
+            decompose_mode: DecomposeMode::Always,
+            face_parts: None,
         }
     }
 }
@@ -129,7 +140,21 @@ pub fn run(
             loaded.asset.joints.len()
         );
         let mut decompose_note = None;
-        if let Some(decompose) = &options.decompose {
+        if let Some(face_parts) = &options.face_parts {
+            loaded.asset = split_asset(&loaded.asset, face_parts)?;
+            summary = format!(
+                "{summary}; split into {} parts by the stored decomposition (joints dropped)",
+                loaded.asset.parts.len()
+            );
+            decompose_note = Some(format!(
+                "split into {} parts by the decompose stage's face-to-part map; declared joints dropped",
+                loaded.asset.parts.len()
+            ));
+        } else if let Some(decompose) = options
+            .decompose
+            .as_ref()
+            .filter(|_| options.decompose_mode.applies_to(&loaded.asset))
+        {
             let (parts, decomposition) = decompose_asset(
                 &loaded.asset,
                 &BuiltinSegmenter::default(),
