@@ -143,6 +143,14 @@ pub struct StageRunArgs {
     /// Seed for anything random (same input and seed, same parts).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Segment the views with a SAM-compatible mask service at this URL (e.g. http://sam:8000)
+    /// instead of the built-in render-space segmenter.
+    #[arg(long)]
+    pub sam_url: Option<String>,
+    /// Take per-face features from a PartField-compatible service at this URL instead of the
+    /// built-in geometric features.
+    #[arg(long)]
+    pub partfield_url: Option<String>,
 }
 
 /// Up axis of the input.

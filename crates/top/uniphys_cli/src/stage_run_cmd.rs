@@ -5,11 +5,14 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context;
+use uniphys_decompose::candidates::PartFieldGenerator;
+use uniphys_decompose::segment::SamSegmenter;
 use uniphys_decompose::{
-    BuiltinSegmenter, DecomposeOptions, GeometricGenerator, PerceptionOptions, ViewOptions,
-    decompose_asset,
+    BuiltinSegmenter, CandidateGenerator, DecomposeOptions, GeometricGenerator, PerceptionOptions,
+    Segmenter, ViewOptions, decompose_asset,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_vision::{ClientConfig, PartFieldClient, SamClient};
 
 use crate::args::{StageRunArgs, metres_per_unit};
 
@@ -47,10 +50,24 @@ fn decompose(args: &StageRunArgs) -> anyhow::Result<ExitCode> {
         seed: args.seed,
         ..DecomposeOptions::default()
     };
+    let segmenter: Box<dyn Segmenter> = match &args.sam_url {
+        Some(url) => Box::new(SamSegmenter::new(
+            SamClient::new(ClientConfig::for_url(url.clone()))
+                .context("the SAM-compatible service settings")?,
+        )),
+        None => Box::new(BuiltinSegmenter::default()),
+    };
+    let generator: Box<dyn CandidateGenerator> = match &args.partfield_url {
+        Some(url) => Box::new(PartFieldGenerator::new(
+            PartFieldClient::new(ClientConfig::for_url(url.clone()))
+                .context("the PartField-compatible service settings")?,
+        )),
+        None => Box::new(GeometricGenerator::default()),
+    };
     let (_, decomposition) = decompose_asset(
         &loaded.asset,
-        &BuiltinSegmenter::default(),
-        &GeometricGenerator::default(),
+        segmenter.as_ref(),
+        generator.as_ref(),
         &options,
     )?;
     let mesh = loaded.asset.merged();
@@ -58,9 +75,11 @@ fn decompose(args: &StageRunArgs) -> anyhow::Result<ExitCode> {
     write_all(&args.out, &files)?;
     let summary = &decomposition.summary;
     eprintln!(
-        "{} faces -> {} parts (masks {}, K prior {}, matched K {}, refined {}, merged {} by {}, refined again {}, small parts merged {}) in {:.2} s; wrote {} files to {}",
+        "{} faces -> {} parts ({} and {}; masks {}, K prior {}, matched K {}, refined {}, merged {} by {}, refined again {}, small parts merged {}) in {:.2} s; wrote {} files to {}",
         summary.faces,
         summary.final_parts,
+        summary.segmenter,
+        summary.generator,
         summary.masks,
         summary.k_prior,
         summary.matched_k,

@@ -167,3 +167,28 @@ fn an_unknown_stage_is_refused_with_the_runnable_ones() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("decompose"), "{stderr}");
 }
+
+#[test]
+fn an_unreachable_mask_service_fails_with_its_name() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("box_with_lid.obj");
+    std::fs::write(&input, BOX_WITH_LID_OBJ).expect("write input");
+    // Nothing listens on port 9 of the loopback interface: connections are refused at once.
+    let output = uniphys(&[
+        "stage",
+        "run",
+        "decompose",
+        &input.display().to_string(),
+        "--out",
+        &dir.path().join("out").display().to_string(),
+        "--resolution-px",
+        "64",
+        "--views",
+        "1",
+        "--sam-url",
+        "http://127.0.0.1:9",
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.to_lowercase().contains("sam"), "{stderr}");
+}
