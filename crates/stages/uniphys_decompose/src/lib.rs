@@ -13,7 +13,7 @@
 //! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size;
-//! - [`decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
+//! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
 //!   face-to-part map applied to its asset.

@@ -47,7 +47,7 @@ pub struct CandidateRequest<'a> {
 
 /// A source of candidate decompositions.
 pub trait CandidateGenerator: Send + Sync {
-    /// Who produced the candidates, e.g. "builtin-geometric-clustering" or "partfield:<model>".
+    /// Who produced the candidates, e.g. "builtin-geometric-clustering" or `partfield:<model>`.
     fn provider(&self) -> String;
     /// One candidate per reachable K of the request, ascending K.
     fn candidates(&self, request: &CandidateRequest<'_>) -> DecomposeResult<Vec<Candidate>>;
