@@ -11,12 +11,14 @@
 //!   releases the rest; a fresh worker id per process start.
 //!
 //! Map: [`Stage`] (what a stage is) · [`StageRegistry`] and [`pipeline_job_spec`] (which stages
-//! exist, the graph an asset gets) · [`stages`] (ingest, convert, stand-ins) · [`Worker`]
+//! exist, the graph an asset gets) · [`stages`] (ingest, decompose, convert, stand-ins) · [`FleetRateLimiter`] (the LVLM
+//! client's rate limit over the fleet's Redis bucket) · [`Worker`]
 //! (claim loops, reaper, shutdown) · [`WorkerConfig`].
 
 mod config;
 mod error;
 mod execute;
+mod fleet_rate_limit;
 mod outputs;
 mod registry;
 mod source;
@@ -26,6 +28,7 @@ mod worker;
 
 pub use config::{StageSlots, WorkerConfig};
 pub use error::{WorkerError, WorkerResult};
+pub use fleet_rate_limit::FleetRateLimiter;
 pub use outputs::{OutputWriter, input_digest};
 pub use registry::{StageRegistry, pipeline_job_spec};
 pub use stage::{Stage, StageControl, StageError, StageInput, StageProgress};

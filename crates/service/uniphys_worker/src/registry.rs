@@ -7,7 +7,7 @@ use std::time::Duration;
 use uniphys_queue::{JobSpec, StageSpec};
 
 use crate::stage::Stage;
-use crate::stages::{ConvertStage, IngestStage, StandInStage};
+use crate::stages::{ConvertStage, DecomposeStage, IngestStage, StandInStage};
 
 /// Stages by name.
 #[derive(Clone, Default)]
@@ -22,12 +22,27 @@ impl std::fmt::Debug for StageRegistry {
 }
 
 impl StageRegistry {
-    /// The real pipeline: `ingest` then `convert`.
+    /// The real pipeline with default options: `ingest`, `decompose` (auto) and `convert`.
     #[must_use]
     pub fn pipeline() -> Self {
+        Self::pipeline_with(DecomposeStage::default(), ConvertStage::default())
+    }
+
+    /// The real pipeline with the given `decompose` and `convert` stages (their options: the
+    /// decomposition mode, an LVLM, verification parameters). `convert`'s reader options are
+    /// used by `ingest` and `decompose` too, so all three see the same faces.
+    #[must_use]
+    pub fn pipeline_with(decompose: DecomposeStage, convert: ConvertStage) -> Self {
+        let ingest = convert.options.ingest.clone();
         Self::default()
-            .with(IngestStage::default())
-            .with(ConvertStage::default())
+            .with(IngestStage {
+                options: ingest.clone(),
+            })
+            .with(DecomposeStage {
+                ingest,
+                ..decompose
+            })
+            .with(convert)
     }
 
     /// Deterministic stand-ins named `names`, each taking `work` (tests, crash tests, benches).
@@ -61,13 +76,18 @@ impl StageRegistry {
 /// Attempts of a pipeline stage before it is dead-lettered.
 const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 
-/// The stage graph every submitted asset gets: `ingest` → `convert`.
+/// The stage graph every submitted asset gets: `ingest` → `decompose` → `convert` (`convert`
+/// also reads `ingest`'s output, so it depends on both).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
     JobSpec::new(vec![
         StageSpec::new("ingest").with_max_attempts(PIPELINE_MAX_ATTEMPTS),
+        StageSpec::new("decompose")
+            .after("ingest")
+            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
         StageSpec::new("convert")
             .after("ingest")
+            .after("decompose")
             .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
     ])
 }
@@ -84,6 +104,6 @@ mod tests {
         for stage in &spec.stages {
             assert!(registry.get(&stage.name).is_some(), "{}", stage.name);
         }
-        assert_eq!(registry.names(), ["convert", "ingest"]);
+        assert_eq!(registry.names(), ["convert", "decompose", "ingest"]);
     }
 }

@@ -1,11 +1,13 @@
 //! The worker against a real store (SQLite in a temp dir) and a local object store: stand-in
 //! graphs run to the end with deterministic outputs, a broken input dead-letters at once with a
-//! readable error, the real pipeline converts an example, and shutdown releases what it holds.
+//! readable error, the real pipeline converts an example (and decomposes one given in one piece),
+//! and shutdown releases what it holds.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use tokio_util::sync::CancellationToken;
+use uniphys_geometry::{MeshAsset, MeshPart};
 use uniphys_hints::Hints;
 use uniphys_queue::{
     JobSpec, JobState, NewAsset, OutputManifest, QueueStore, StageState, StoreConfig, TenantId,
@@ -35,6 +37,9 @@ async fn fixture() -> Fixture {
         tenant,
     }
 }
+
+/// One slot for each stage of the pipeline.
+const PIPELINE_SLOTS: &[(&str, usize)] = &[("ingest", 1), ("decompose", 1), ("convert", 1)];
 
 fn config(stages: &[(&str, usize)]) -> WorkerConfig {
     WorkerConfig {
@@ -176,10 +181,7 @@ async fn a_broken_input_is_dead_lettered_at_once_with_a_readable_error() {
     let broken = dir.path().join("broken.glb");
     std::fs::write(&broken, b"glTF this is not a real binary glTF").expect("write");
     let sub = f.submit_file(&broken, &pipeline_job_spec()).await;
-    let (shutdown, handle) = f.start(
-        StageRegistry::pipeline(),
-        config(&[("ingest", 1), ("convert", 1)]),
-    );
+    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
     f.wait_finished(&[sub.job_id], Duration::from_secs(60))
         .await;
     shutdown.cancel();
@@ -207,10 +209,7 @@ async fn the_pipeline_converts_an_example_into_its_artifacts() {
     let f = fixture().await;
     let mug = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples/mug.glb");
     let sub = f.submit_file(&mug, &pipeline_job_spec()).await;
-    let (shutdown, handle) = f.start(
-        StageRegistry::pipeline(),
-        config(&[("ingest", 1), ("convert", 1)]),
-    );
+    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
     f.wait_finished(&[sub.job_id], Duration::from_secs(600))
         .await;
     shutdown.cancel();
@@ -232,6 +231,87 @@ async fn the_pipeline_converts_an_example_into_its_artifacts() {
         "{}",
         manifest.summary
     );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn an_asset_in_one_piece_is_decomposed_and_converted_with_the_found_parts() {
+    let f = fixture().await;
+    let example = uniphys_examples::example("box_with_lid").expect("example");
+    let one_piece = MeshAsset {
+        parts: vec![MeshPart {
+            name: "scan".into(),
+            mesh: example.asset.merged(),
+        }],
+        joints: Vec::new(),
+        ..example.asset.clone()
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("box_in_one_piece.glb");
+    let glb =
+        uniphys_examples::write_glb(&one_piece, uniphys_examples::GlbFrame::YUp).expect("glb");
+    std::fs::write(&path, glb).expect("write");
+    let sub = f.submit_file(&path, &pipeline_job_spec()).await;
+    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
+    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    let manifest = |stage: &str| {
+        let run = job.stage(stage).expect("stage");
+        OutputManifest::from_value(run.output_manifest.as_ref().expect("manifest")).expect("shape")
+    };
+    let decompose = manifest("decompose");
+    assert_eq!(
+        decompose.summary["decomposed"], true,
+        "{}",
+        decompose.summary
+    );
+    let found = decompose.summary["parts"].as_u64().expect("part count");
+    assert!(found >= 2, "{}", decompose.summary);
+    let entry = decompose.artifact("face_parts.json").expect("face map");
+    let face_parts: Vec<u32> =
+        serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("map")).expect("json");
+    assert_eq!(face_parts.len(), example.asset.merged().triangle_count());
+    // convert built the asset from the found parts, not from the one piece submitted.
+    let convert = manifest("convert");
+    assert_eq!(
+        convert.summary["parts"].as_u64(),
+        Some(found),
+        "{}",
+        convert.summary
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn an_asset_with_its_own_parts_keeps_them() {
+    let f = fixture().await;
+    let mug = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples/mug.glb");
+    let sub = f.submit_file(&mug, &pipeline_job_spec()).await;
+    let (shutdown, handle) = f.start(
+        StageRegistry::pipeline(),
+        config(&[("ingest", 1), ("decompose", 1)]),
+    );
+    let until = Instant::now() + Duration::from_secs(120);
+    let decompose = loop {
+        let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+        let run = job.stage("decompose").expect("stage");
+        if run.state == StageState::Succeeded {
+            break OutputManifest::from_value(run.output_manifest.as_ref().expect("manifest"))
+                .expect("shape");
+        }
+        assert!(Instant::now() < until, "{:?}", job.stages);
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    };
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    assert_eq!(
+        decompose.summary["decomposed"], false,
+        "{}",
+        decompose.summary
+    );
+    assert!(decompose.artifact("face_parts.json").is_none());
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]

@@ -3,6 +3,8 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand, ValueEnum};
 use uniphys_types::UpAxis;
 
+use crate::lvlm_args::LvlmArgs;
+
 /// Turn raw 3D assets into simulation-ready assets.
 #[derive(Debug, Parser)]
 #[command(name = "uniphys", version, about)]
@@ -195,30 +197,9 @@ pub struct RunArgs {
     /// GPU slots this process may hold on the model server at once.
     #[arg(long, default_value_t = 1)]
     pub uniphysgen_slots: usize,
-    /// Ground with an OpenAI-compatible vision-language model at this base URL (with its API
-    /// prefix, e.g. http://vllm:8000/v1) after the built-in grounder: properties, motion graph and
-    /// joints chosen among geometric candidates replace the estimates. The key is read from
-    /// UNIPHYS_LVLM_API_KEY (or OPENAI_API_KEY).
-    #[arg(long, env = "UNIPHYS_LVLM_BASE_URL")]
-    pub lvlm_base_url: Option<String>,
-    /// Model name sent to the LVLM server.
-    #[arg(long, env = "UNIPHYS_LVLM_MODEL", default_value = "gpt-5")]
-    pub lvlm_model: String,
-    /// `reasoning_effort` sent with each LVLM request (`minimal`, `low`, `medium`, `high`), or
-    /// `none` to leave it out (servers that do not know it).
-    #[arg(long, env = "UNIPHYS_LVLM_REASONING_EFFORT", default_value = "medium")]
-    pub lvlm_reasoning_effort: String,
-    /// Most LVLM requests of this run in flight at once.
-    #[arg(long, env = "UNIPHYS_LVLM_CONCURRENCY", default_value_t = 8)]
-    pub lvlm_concurrency: usize,
-    /// Most USD the LVLM requests of this asset may cost (requests that could exceed it are not
-    /// sent and the run fails).
-    #[arg(long, env = "UNIPHYS_LVLM_BUDGET_USD")]
-    pub lvlm_budget_usd: Option<f64>,
-    /// Directory of the LVLM answer cache (keyed by request digest): a repeated run does not pay
-    /// twice.
-    #[arg(long, env = "UNIPHYS_LVLM_CACHE_DIR")]
-    pub lvlm_cache_dir: Option<PathBuf>,
+    /// The LVLM, if any.
+    #[command(flatten)]
+    pub lvlm: LvlmArgs,
     /// Drop the joints an articulated input (URDF) declares, keeping its parts and their names,
     /// so that the grounder infers the articulation (noted in report.json).
     #[arg(long)]

@@ -11,6 +11,7 @@
 
 mod args;
 mod eval_cmd;
+mod lvlm_args;
 mod measure_cmd;
 mod points_cmd;
 mod progress;
@@ -20,6 +21,7 @@ pub mod service;
 mod stage_run_cmd;
 
 pub use args::{Cli, Command, EvalArgs, StageAction, StageRunArgs, TenantAction};
+pub use lvlm_args::LvlmArgs;
 
 use std::process::ExitCode;
 

@@ -3,7 +3,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use uniphys_decompose::DecomposeOptions;
 use uniphys_mesh_io::{AssetRotation, IngestOptions};
-use uniphys_pipeline::{LearnedOptions, LvlmOptions, RunOptions, run as run_pipeline};
+use uniphys_pipeline::{LearnedOptions, RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
 use uniphys_uniphysgen::ClientConfig;
 
@@ -34,10 +34,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         slots: args.uniphysgen_slots,
         ..LearnedOptions::default()
     });
-    options.lvlm = args
-        .lvlm_base_url
-        .as_ref()
-        .map(|url| lvlm_options(args, url));
+    options.lvlm = args.lvlm.options(None)?;
     let mut output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
     let ingest_notes = options.ingest.transform_notes();
     if let Some(report) = output
@@ -125,26 +122,4 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::from(1)
     })
-}
-
-/// LVLM options from the flags; the key from `UNIPHYS_LVLM_API_KEY`, else `OPENAI_API_KEY`.
-fn lvlm_options(args: &RunArgs, base_url: &str) -> LvlmOptions {
-    let api_key = [uniphys_lvlm::API_KEY_VARIABLE, "OPENAI_API_KEY"]
-        .iter()
-        .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty()));
-    let reasoning_effort = Some(args.lvlm_reasoning_effort.trim().to_owned())
-        .filter(|e| !e.is_empty() && !e.eq_ignore_ascii_case("none"));
-    LvlmOptions {
-        client: uniphys_lvlm::LvlmConfig {
-            base_url: base_url.trim_end_matches('/').to_owned(),
-            model: args.lvlm_model.clone(),
-            api_key,
-            reasoning_effort,
-            max_concurrency: args.lvlm_concurrency,
-            ..uniphys_lvlm::LvlmConfig::default()
-        },
-        budget_usd: args.lvlm_budget_usd,
-        cache_dir: args.lvlm_cache_dir.clone(),
-        ..LvlmOptions::default()
-    }
 }

@@ -1,16 +1,20 @@
 //! `convert`: the whole in-process pipeline (ingest → prepare → colliders → ground → verify →
 //! export) on the submitted file; writes every exported file (URDF, MJCF, meshes, record,
 //! report) as artifacts. An asset that fails verification is still written, with `passed: false`
-//! in the summary, exactly as `uniphys run` does.
+//! in the summary, exactly as `uniphys run` does. When the job has a `decompose` stage that split
+//! the input, its face-to-part map gives the parts.
 
 use std::time::Duration;
 
 use serde_json::{Value, json};
-use uniphys_pipeline::{Progress, RunOptions, Stage as PipelineStage, run};
+use uniphys_annotate::AnnotateError;
+use uniphys_pipeline::{PipelineError, Progress, RunOptions, Stage as PipelineStage, run};
+use uniphys_uniphysgen::UniPhysGenError;
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
+use crate::stages::decompose::FACE_PARTS_FILE;
 
 /// The convert stage.
 #[derive(Clone, Debug, Default)]
@@ -53,7 +57,8 @@ impl Stage for ConvertStage {
     }
 
     fn version(&self) -> u32 {
-        1
+        // 2: the parts come from an upstream `decompose` when it split the input.
+        2
     }
 
     fn run(
@@ -64,8 +69,11 @@ impl Stage for ConvertStage {
     ) -> Result<Value, StageError> {
         input.upstream("ingest")?;
         let source = SourceFile::fetch(input)?;
-        let output = run(source.path(), &self.options, &Relay(control))
-            .map_err(|e| StageError::Permanent(format!("the pipeline failed: {e}")))?;
+        let mut options = self.options.clone();
+        if let Some(face_parts) = stored_face_parts(input)? {
+            options.face_parts = Some(face_parts);
+        }
+        let output = run(source.path(), &options, &Relay(control)).map_err(classify)?;
         control.check()?;
         let files = output.artifacts.len();
         for artifact in output.artifacts {
@@ -85,4 +93,43 @@ impl Stage for ConvertStage {
             "stage_secs": timings,
         }))
     }
+}
+
+/// An LVLM (or UniPhysGen) server that stayed away or answered out of format through every
+/// retry may do better on the next attempt (answers already paid for are cached); every other
+/// failure would repeat.
+fn classify(error: PipelineError) -> StageError {
+    let transient = match &error {
+        PipelineError::Lvlm(e) | PipelineError::Annotate(AnnotateError::Lvlm(e)) => {
+            e.is_transient()
+        }
+        PipelineError::Model(e) => matches!(
+            e,
+            UniPhysGenError::GaveUp { .. }
+                | UniPhysGenError::Timeout { .. }
+                | UniPhysGenError::NoSlot { .. }
+        ),
+        _ => false,
+    };
+    let message = format!("the pipeline failed: {error}");
+    if transient {
+        StageError::Transient(message)
+    } else {
+        StageError::Permanent(message)
+    }
+}
+
+/// The face-to-part map written by an upstream `decompose` stage, if the job has one and it
+/// split the input.
+fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError> {
+    let Some((_, manifest)) = input.upstream.iter().find(|(name, _)| name == "decompose") else {
+        return Ok(None);
+    };
+    let Some(entry) = manifest.artifact(FACE_PARTS_FILE) else {
+        return Ok(None);
+    };
+    let bytes = input.fetch(&entry.key)?;
+    serde_json::from_slice(&bytes)
+        .map(Some)
+        .map_err(|e| StageError::Permanent(format!("{}: {e}", entry.key)))
 }

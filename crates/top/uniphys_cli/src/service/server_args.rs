@@ -3,7 +3,17 @@
 use std::net::SocketAddr;
 use std::time::Duration;
 
-use uniphys_worker::{StageRegistry, StageSlots, WorkerConfig};
+use std::sync::Arc;
+
+use anyhow::Context;
+use uniphys_decompose::DecomposeMode;
+use uniphys_hints::Hints;
+use uniphys_lvlm::RateLimiter;
+use uniphys_vision::ClientConfig;
+use uniphys_worker::stages::{ConvertStage, DecomposeStage};
+use uniphys_worker::{FleetRateLimiter, StageRegistry, StageSlots, WorkerConfig};
+
+use crate::lvlm_args::LvlmArgs;
 
 use super::config::{ServiceArgs, parse_stage_slots, secs};
 
@@ -68,18 +78,67 @@ pub struct WorkerArgs {
     /// Testing: how long each stand-in stage works, in milliseconds.
     #[arg(long, env = "UNIPHYS_STAND_IN_WORK_MS", default_value_t = 10)]
     pub stand_in_work_ms: u64,
+    /// Which assets `decompose` splits into parts: `auto` (inputs in one piece or in more than
+    /// 20 fragments, without joints), `always` or `off`.
+    #[arg(long, env = "UNIPHYS_DECOMPOSE_MODE", default_value = "auto", value_parser = parse_mode)]
+    pub decompose_mode: DecomposeMode,
+    /// `decompose` segments its views with a SAM-compatible mask service at this URL instead of
+    /// the built-in render-space segmenter.
+    #[arg(long, env = "UNIPHYS_SAM_URL")]
+    pub sam_url: Option<String>,
+    /// `decompose` takes per-face features from a PartField-compatible service at this URL
+    /// instead of the built-in geometric features.
+    #[arg(long, env = "UNIPHYS_PARTFIELD_URL")]
+    pub partfield_url: Option<String>,
+    /// The LVLM `convert` grounds with, if any.
+    #[command(flatten)]
+    pub lvlm: LvlmArgs,
 }
 
+fn parse_mode(text: &str) -> Result<DecomposeMode, String> {
+    DecomposeMode::parse(text).ok_or_else(|| format!("{text:?}: expected auto, always or off"))
+}
+
+/// Name of the fleet's LVLM request bucket in Redis.
+const LVLM_BUCKET: &str = "lvlm";
+
 impl WorkerArgs {
-    /// The stages this process can run.
-    #[must_use]
-    pub fn registry(&self) -> StageRegistry {
-        if self.stand_ins.is_empty() {
-            StageRegistry::pipeline()
-        } else {
+    /// The stages this process can run. The LVLM's request rate is shared with the fleet
+    /// through `hints` (Redis; the in-process twin keeps it per process); must be called inside
+    /// the service's runtime.
+    ///
+    /// # Errors
+    /// An LVLM request rate of 0.
+    pub fn registry(&self, hints: &Hints) -> anyhow::Result<StageRegistry> {
+        if !self.stand_ins.is_empty() {
             let names: Vec<&str> = self.stand_ins.iter().map(String::as_str).collect();
-            StageRegistry::stand_ins(&names, Duration::from_millis(self.stand_in_work_ms))
+            return Ok(StageRegistry::stand_ins(
+                &names,
+                Duration::from_millis(self.stand_in_work_ms),
+            ));
         }
+        let fleet_limit = match self.lvlm.lvlm_requests_per_minute {
+            Some(per_minute) if self.lvlm.lvlm_base_url.is_some() => Some(Arc::new(
+                FleetRateLimiter::new(
+                    hints.clone(),
+                    LVLM_BUCKET,
+                    per_minute,
+                    tokio::runtime::Handle::current(),
+                )
+                .context("UNIPHYS_LVLM_REQUESTS_PER_MINUTE")?,
+            )
+                as Arc<dyn RateLimiter>),
+            _ => None,
+        };
+        let mut convert = ConvertStage::default();
+        convert.options.lvlm = self.lvlm.options(fleet_limit)?;
+        let decompose = DecomposeStage {
+            mode: self.decompose_mode,
+            sam: self.sam_url.clone().map(ClientConfig::for_url),
+            partfield: self.partfield_url.clone().map(ClientConfig::for_url),
+            ..DecomposeStage::default()
+        };
+        Ok(StageRegistry::pipeline_with(decompose, convert))
     }
 
     /// The worker configuration.

@@ -1,0 +1,137 @@
+//! `decompose`: stage 2 in the queue. Reads the submitted file, and when the input needs it (see
+//! [`DecomposeMode`]) splits it into parts with the built-in providers, or with SAM-compatible and
+//! PartField-compatible services when they are configured; writes the per-part
+//! meshes, `face_parts.json` (face of the merged input mesh → part) and `decompose.json`.
+//! `convert` applies `face_parts.json` to the same input, so the parts keep their materials.
+//! An input that keeps its own parts gets a summary only.
+
+use serde_json::{Value, json};
+use uniphys_decompose::candidates::PartFieldGenerator;
+use uniphys_decompose::segment::SamSegmenter;
+use uniphys_decompose::{
+    BuiltinSegmenter, CandidateGenerator, DecomposeError, DecomposeMode, DecomposeOptions,
+    GeometricGenerator, Segmenter, decompose_asset,
+};
+use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_vision::{ClientConfig, PartFieldClient, SamClient, VisionError};
+
+use crate::outputs::OutputWriter;
+use crate::source::SourceFile;
+use crate::stage::{Stage, StageControl, StageError, StageInput};
+
+/// The file `convert` reads from this stage's output.
+pub const FACE_PARTS_FILE: &str = "face_parts.json";
+
+/// The decompose stage.
+#[derive(Clone, Debug, Default)]
+pub struct DecomposeStage {
+    /// Reader options; must equal `convert`'s so the face order is the same.
+    pub ingest: IngestOptions,
+    /// When to decompose.
+    pub mode: DecomposeMode,
+    /// Views, resolution, thresholds, seed.
+    pub options: DecomposeOptions,
+    /// A SAM-compatible mask service; `None` for the built-in segmenter.
+    pub sam: Option<ClientConfig>,
+    /// A PartField-compatible feature service; `None` for the built-in geometric generator.
+    pub partfield: Option<ClientConfig>,
+}
+
+impl DecomposeStage {
+    fn segmenter(&self) -> Result<Box<dyn Segmenter>, StageError> {
+        Ok(match &self.sam {
+            Some(config) => Box::new(SamSegmenter::new(
+                SamClient::new(config.clone()).map_err(|e| StageError::Permanent(e.to_string()))?,
+            )),
+            None => Box::new(BuiltinSegmenter::default()),
+        })
+    }
+
+    fn generator(&self) -> Result<Box<dyn CandidateGenerator>, StageError> {
+        Ok(match &self.partfield {
+            Some(config) => Box::new(PartFieldGenerator::new(
+                PartFieldClient::new(config.clone())
+                    .map_err(|e| StageError::Permanent(e.to_string()))?,
+            )),
+            None => Box::new(GeometricGenerator::default()),
+        })
+    }
+}
+
+/// A vision service that stayed away through its retries may be back for the next attempt;
+/// everything else would fail the same way again.
+fn classify(error: DecomposeError) -> StageError {
+    let message = format!("decomposition failed: {error}");
+    match error {
+        DecomposeError::Vision(VisionError::GaveUp { .. }) => StageError::Transient(message),
+        _ => StageError::Permanent(message),
+    }
+}
+
+impl Stage for DecomposeStage {
+    fn name(&self) -> &str {
+        "decompose"
+    }
+
+    fn version(&self) -> u32 {
+        1
+    }
+
+    fn run(
+        &self,
+        input: &StageInput,
+        out: &mut OutputWriter,
+        control: &StageControl,
+    ) -> Result<Value, StageError> {
+        input.upstream("ingest")?;
+        control.progress(0.05, "fetching the source");
+        let source = SourceFile::fetch(input)?;
+        let loaded = load_asset(source.path(), &self.ingest)
+            .map_err(|e| StageError::Permanent(format!("the input cannot be read: {e}")))?;
+        let asset = loaded.asset;
+        if !self.mode.applies_to(&asset) {
+            let summary = json!({
+                "decomposed": false,
+                "parts": asset.parts.len(),
+                "reason": format!(
+                    "kept the input's {} parts ({} declared joints; mode {:?})",
+                    asset.parts.len(),
+                    asset.joints.len(),
+                    self.mode
+                ),
+            });
+            out.put("decompose.json", to_json(&summary)?)?;
+            return Ok(summary);
+        }
+        control.check()?;
+        control.progress(0.2, "decomposing");
+        let (segmenter, generator) = (self.segmenter()?, self.generator()?);
+        let (_, decomposition) = decompose_asset(
+            &asset,
+            segmenter.as_ref(),
+            generator.as_ref(),
+            &self.options,
+        )
+        .map_err(classify)?;
+        control.check()?;
+        let files = decomposition
+            .files(&asset.merged())
+            .map_err(|e| StageError::Permanent(format!("writing the parts: {e}")))?;
+        for (path, bytes) in files {
+            out.put(&path, bytes)?;
+        }
+        let summary = &decomposition.summary;
+        Ok(json!({
+            "decomposed": true,
+            "input_parts": asset.parts.len(),
+            "parts": decomposition.part_count,
+            "segmenter": summary.segmenter,
+            "generator": summary.generator,
+            "secs": summary.total_secs(),
+        }))
+    }
+}
+
+fn to_json(value: &Value) -> Result<Vec<u8>, StageError> {
+    serde_json::to_vec_pretty(value).map_err(|e| StageError::Permanent(e.to_string()))
+}
