@@ -32,7 +32,9 @@ impl FleetRateLimiter {
         per_minute: u32,
         runtime: tokio::runtime::Handle,
     ) -> LvlmResult<Self> {
-        let fallback = LocalTokenBucket::new(f64::from(per_minute) / 60.0, per_minute.max(1))?;
+        // A second's worth of burst: when Redis goes away, workers do not each send a minute's.
+        let fallback =
+            LocalTokenBucket::new(f64::from(per_minute) / 60.0, (per_minute / 60).max(1))?;
         Ok(Self {
             hints,
             limit: RateLimit::new(name, per_minute),

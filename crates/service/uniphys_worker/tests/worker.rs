@@ -268,8 +268,14 @@ async fn an_asset_in_one_piece_is_decomposed_and_converted_with_the_found_parts(
         "{}",
         decompose.summary
     );
+    // The box and its lid, no more and no fewer.
     let found = decompose.summary["parts"].as_u64().expect("part count");
-    assert!(found >= 2, "{}", decompose.summary);
+    assert_eq!(
+        found,
+        example.asset.parts.len() as u64,
+        "{}",
+        decompose.summary
+    );
     let entry = decompose.artifact("face_parts.json").expect("face map");
     let face_parts: Vec<u32> =
         serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("map")).expect("json");

@@ -161,15 +161,19 @@ fn pixel_keys(face_ids: &[u32], labels: &[i32], face_count: usize) -> Vec<u64> {
 fn lift_keys(mut keys: Vec<u64>, face_area_m2: &[f64], options: &LiftOptions) -> Vec<FaceSet> {
     let face_count = face_area_m2.len();
     keys.sort_unstable();
-    let votes = run_lengths(&keys);
+    let mut votes = run_lengths(&keys);
     if votes.is_empty() {
         return Vec::new();
     }
-    let label_count = votes
-        .iter()
-        .map(|v| v.label as usize + 1)
-        .max()
-        .unwrap_or(0);
+    // Labels renumbered densely in their order (a segmenter may use any values, e.g. i32::MAX);
+    // the order, and with it the tie rule below, is unchanged.
+    let mut labels: Vec<u32> = votes.iter().map(|v| v.label).collect();
+    labels.sort_unstable();
+    labels.dedup();
+    for v in &mut votes {
+        v.label = u32::try_from(labels.partition_point(|&l| l < v.label)).unwrap_or(u32::MAX);
+    }
+    let label_count = labels.len();
 
     // Winner and labelled pixel total per face; votes are sorted by face, then label.
     let mut owner = vec![u32::MAX; face_count];
@@ -347,6 +351,23 @@ mod tests {
     fn mismatched_buffers_are_an_error() {
         let result = lift_labels(&[1, 2], &[0], &[1.0, 1.0], &LiftOptions::default());
         assert!(matches!(result, Err(DecomposeError::InvalidInput(_))));
+    }
+
+    #[test]
+    fn sparse_label_values_lift_like_dense_ones() {
+        let (faces, dense) = pixels(&[(Some(0), 1, 5), (Some(1), 2, 5), (Some(2), 2, 3)]);
+        let sparse: Vec<i32> = dense
+            .iter()
+            .map(|&l| if l == 2 { i32::MAX } else { l })
+            .collect();
+        let areas = [1.0; 3];
+        let options = LiftOptions::default();
+        let expected = lift_labels(&faces, &dense, &areas, &options).unwrap();
+        assert_eq!(expected, vec![vec![0], vec![1, 2]]);
+        assert_eq!(
+            lift_labels(&faces, &sparse, &areas, &options).unwrap(),
+            expected
+        );
     }
 }
 

@@ -22,6 +22,14 @@ pub fn split_asset(asset: &MeshAsset, face_part: &[u32]) -> DecomposeResult<Mesh
         )));
     }
     let part_count = face_part.iter().max().map_or(0, |&p| p as usize + 1);
+    if part_count > face_part.len() {
+        return Err(DecomposeError::InvalidInput(format!(
+            "the face-to-part map names part {} but {} faces can make at most {} parts",
+            part_count - 1,
+            face_part.len(),
+            face_part.len()
+        )));
+    }
     let mut faces = vec![Vec::new(); part_count];
     for (face, &part) in face_part.iter().enumerate() {
         faces[part as usize].push(face);
@@ -79,5 +87,10 @@ mod tests {
         assert!(split_asset(&asset, &map[1..]).is_err());
         let gap: Vec<u32> = map.iter().map(|p| p * 2).collect();
         assert!(split_asset(&asset, &gap).is_err());
+        // A corrupt map naming a huge part is refused before anything is allocated for it.
+        let mut huge = map.clone();
+        huge[0] = u32::MAX;
+        let message = split_asset(&asset, &huge).unwrap_err().to_string();
+        assert!(message.contains("at most"), "{message}");
     }
 }
