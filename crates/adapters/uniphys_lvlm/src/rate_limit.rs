@@ -128,10 +128,13 @@ mod tests {
 
     #[test]
     fn acquire_blocks_until_a_token_is_refilled() {
-        let bucket = LocalTokenBucket::new(200.0, 1).unwrap();
+        // 20 a second, burst 1: the second token exists only 50 ms after the first was taken.
+        let bucket = LocalTokenBucket::new(20.0, 1).unwrap();
         bucket.acquire().unwrap();
+        let start = std::time::Instant::now();
         bucket.acquire().unwrap();
-        // The second acquire waited for a refill and took it: less than one token is left.
+        let waited = start.elapsed();
+        assert!(waited >= Duration::from_millis(40), "{waited:?}");
         assert!(bucket.state.lock().unwrap().tokens < 1.0);
     }
 }

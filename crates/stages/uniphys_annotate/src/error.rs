@@ -41,6 +41,15 @@ pub enum AnnotateError {
         /// Every violation of the last answer.
         violations: Vec<Violation>,
     },
+    /// A movable part's articulation could not be settled (its answer stayed invalid after the
+    /// repair turn, or named no candidate).
+    #[error("the articulation of part {label} failed: {reason}")]
+    ArticulationFailed {
+        /// Part label (1-based, as in the prompts).
+        label: u32,
+        /// Why.
+        reason: String,
+    },
     /// The client gave up (transport, HTTP, budget, timeouts after retries).
     #[error(transparent)]
     Lvlm(#[from] uniphys_lvlm::LvlmError),

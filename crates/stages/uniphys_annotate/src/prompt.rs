@@ -26,12 +26,33 @@ pub struct Prompt {
     pub user_text: String,
 }
 
-/// Replaces every `{key}` of `template` by its value.
+/// Replaces every `{key}` of `template` by its value, in one pass over the template: text a value
+/// brings in (a part description the model wrote, say) is never searched for placeholders.
 fn fill(template: &str, values: &[(&str, &str)]) -> String {
-    let mut out = template.to_owned();
-    for (key, value) in values {
-        out = out.replace(&format!("{{{key}}}"), value);
+    let mut out = String::with_capacity(template.len());
+    let mut rest = template;
+    while let Some(open) = rest.find('{') {
+        out.push_str(&rest[..open]);
+        let after = &rest[open + 1..];
+        let value = after.find('}').and_then(|close| {
+            let key = &after[..close];
+            values
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, v)| (*v, close))
+        });
+        match value {
+            Some((value, close)) => {
+                out.push_str(value);
+                rest = &after[close + 1..];
+            }
+            None => {
+                out.push('{');
+                rest = after;
+            }
+        }
     }
+    out.push_str(rest);
     out
 }
 
@@ -179,5 +200,17 @@ mod tests {
         assert!(a.user_text.contains(" - Dark Gray: (0.000, 0.000, 1.000)"));
         assert!(a.user_text.contains("Red, Green") && a.user_text.contains("REVOLUTE"));
         assert!(!a.user_text.contains("{axis_table}"));
+    }
+
+    #[test]
+    fn placeholders_inside_values_are_left_alone() {
+        let filled = fill(
+            "parts: {parts}; table: {axis_table}; {unknown} {",
+            &[("parts", "lid says {axis_table}"), ("axis_table", "T")],
+        );
+        assert_eq!(
+            filled,
+            "parts: lid says {axis_table}; table: T; {unknown} {"
+        );
     }
 }

@@ -49,6 +49,10 @@ pub struct AnnotateOptions {
     pub seed: u64,
     /// Offer the input's part names to the model as hints.
     pub offer_part_names: bool,
+    /// When a part's articulation answer is still invalid after its repair turn: `false` (the
+    /// default) fails the stage with the reason; `true` fixes the part to its parent and lists
+    /// it in [`Annotation::articulation_failures`] (dataset builds that keep partial results).
+    pub fix_unanswered_parts: bool,
 }
 
 impl Default for AnnotateOptions {
@@ -59,6 +63,7 @@ impl Default for AnnotateOptions {
             points_per_part: 1500,
             seed: 42,
             offer_part_names: true,
+            fix_unanswered_parts: false,
         }
     }
 }
@@ -157,8 +162,8 @@ fn check_input(input: &AnnotateInput<'_>, options: &AnnotateOptions) -> Annotate
 /// [`AnnotateError::TooManyParts`] and the other input errors before anything is sent;
 /// [`AnnotateError::Lvlm`] when the client gives up (transport, budget);
 /// [`AnnotateError::InvalidAnswer`] when the properties answer is still invalid after its
-/// repair turn. An articulation answer that stays invalid does not fail the stage: the part is
-/// listed in [`Annotation::articulation_failures`] and fixed to its parent.
+/// repair turn; [`AnnotateError::ArticulationFailed`] when an articulation answer is, unless
+/// [`AnnotateOptions::fix_unanswered_parts`] fixes that part to its parent instead.
 pub fn annotate(
     input: &AnnotateInput<'_>,
     client: &LvlmClient,
@@ -256,6 +261,12 @@ pub fn annotate(
                 joints.push(joint(movable, &choice, provenance.clone()));
             }
             Err(PartError::Fatal(error)) => return Err(error),
+            Err(PartError::Failed(reason)) if !options.fix_unanswered_parts => {
+                return Err(AnnotateError::ArticulationFailed {
+                    label: outcome.label,
+                    reason,
+                });
+            }
             Err(PartError::Failed(reason)) => {
                 failures.push(ArticulationFailure {
                     label: outcome.label,

@@ -233,7 +233,7 @@ fn an_answer_still_invalid_after_the_repair_is_reported_and_not_cached() {
 }
 
 #[test]
-fn an_articulation_answer_still_invalid_fixes_the_part_and_says_why() {
+fn an_articulation_answer_still_invalid_fails_the_stage_or_fixes_the_part_when_asked() {
     let server = serve(Box::new(|r, _| {
         if is_properties(&r.body_text()) {
             return good(r);
@@ -241,7 +241,31 @@ fn an_articulation_answer_still_invalid_fixes_the_part_and_says_why() {
         let answer = json!({"axis_colour": "Teal", "motion_direction": "up", "pivot": "Green"});
         Reply::json(200, completion(&marked(&answer)))
     }));
-    let a = run(&server, &CostLedger::new(None)).expect("annotated");
+    let error = run(&server, &CostLedger::new(None)).expect_err("fails by default");
+    match &error {
+        AnnotateError::ArticulationFailed { label, reason } => {
+            assert_eq!(*label, 2);
+            assert!(reason.contains("axis_colour"), "{reason}");
+        }
+        other => panic!("{other}"),
+    }
+    let asset = box_with_lid();
+    let client = client(config(&server.url()), Arc::new(NoCache));
+    let a = annotate(
+        &AnnotateInput {
+            object_name: "box_with_lid",
+            part_meshes: &asset.meshes,
+            part_colours: &asset.colours,
+            part_names: &asset.names,
+        },
+        &client,
+        &CostLedger::new(None),
+        &AnnotateOptions {
+            fix_unanswered_parts: true,
+            ..options()
+        },
+    )
+    .expect("annotated");
     assert_eq!(a.articulation_failures.len(), 1);
     assert_eq!(a.articulation_failures[0].label, 2);
     assert!(a.articulation_failures[0].reason.contains("axis_colour"));

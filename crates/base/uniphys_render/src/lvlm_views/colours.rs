@@ -16,8 +16,8 @@ pub const AXIS_COLOURS: [(&str, [u8; 4]); 10] = [
     ("Blue", [0, 0, 255, 255]),
 ];
 
-/// Red, Green, Blue, Yellow, Purple, Brown: the 6 pivot candidates in candidate order (the
-/// reference's order: contact-plane centroid, then the k-means centres).
+/// Red, Green, Blue, Yellow, Purple, Brown: the 6 pivot candidates in candidate order (the five
+/// k-means centres of the contact points, then their centroid, Brown).
 pub const PIVOT_COLOURS: [(&str, [u8; 4]); 6] = [
     ("Red", [255, 0, 0, 255]),
     ("Green", [0, 200, 0, 255]),
