@@ -1,7 +1,8 @@
 use crate::Texture;
 
 /// Converts a linear colour component in [0, 1] to an 8-bit sRGB value (clamped).
-pub(crate) fn linear_to_srgb8(linear: f32) -> u8 {
+#[must_use]
+pub fn linear_to_srgb8(linear: f32) -> u8 {
     let c = f64::from(linear).clamp(0.0, 1.0);
     let encoded = if c <= 0.003_130_8 {
         12.92 * c
@@ -12,7 +13,8 @@ pub(crate) fn linear_to_srgb8(linear: f32) -> u8 {
 }
 
 /// Converts an 8-bit sRGB value to a linear component in [0, 1].
-pub(crate) fn srgb8_to_linear(srgb: u8) -> f32 {
+#[must_use]
+pub fn srgb8_to_linear(srgb: u8) -> f32 {
     let c = f64::from(srgb) / 255.0;
     let linear = if c <= 0.040_45 {
         c / 12.92
@@ -23,8 +25,9 @@ pub(crate) fn srgb8_to_linear(srgb: u8) -> f32 {
 }
 
 /// The texel under `uv` (glTF convention: v = 0 is the top row), nearest pixel, repeating
-/// outside [0, 1). `None` for an empty or malformed texture or a non-finite UV.
-pub(crate) fn texel_rgb8(texture: &Texture, uv: [f32; 2]) -> Option<[u8; 3]> {
+/// outside [0, 1), with its alpha. `None` for an empty or malformed texture or a non-finite UV.
+#[must_use]
+pub fn texel_rgba8(texture: &Texture, uv: [f32; 2]) -> Option<[u8; 4]> {
     let (w, h) = (texture.width as usize, texture.height as usize);
     if w == 0 || h == 0 || texture.rgba8.len() < w * h * 4 || !uv.iter().all(|c| c.is_finite()) {
         return None;
@@ -34,13 +37,14 @@ pub(crate) fn texel_rgb8(texture: &Texture, uv: [f32; 2]) -> Option<[u8; 3]> {
         let frac = c - c.floor();
         ((frac * n as f64) as usize).min(n - 1)
     };
-    let (x, y) = (wrap(uv[0], w), wrap(uv[1], h));
-    let at = (y * w + x) * 4;
-    Some([
-        texture.rgba8[at],
-        texture.rgba8[at + 1],
-        texture.rgba8[at + 2],
-    ])
+    let at = (wrap(uv[1], h) * w + wrap(uv[0], w)) * 4;
+    let px = texture.rgba8.get(at..at + 4)?;
+    Some([px[0], px[1], px[2], px[3]])
+}
+
+/// [`texel_rgba8`] without the alpha.
+pub(crate) fn texel_rgb8(texture: &Texture, uv: [f32; 2]) -> Option<[u8; 3]> {
+    texel_rgba8(texture, uv).map(|[r, g, b, _]| [r, g, b])
 }
 
 #[cfg(test)]

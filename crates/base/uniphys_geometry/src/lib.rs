@@ -1,6 +1,7 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
 //! sampling, voxelised volume, mass properties, contact regions between parts, plane fitting,
-//! k-means and convex decomposition. Synchronous, CPU only, deterministic for a given seed.
+//! k-means, convex decomposition, and the sRGB and texel helpers the renderers share. Synchronous,
+//! CPU only, deterministic for a given seed.
 //!
 //! Coordinates are `f64` metres in the object frame (Z up) once an asset has been ingested.
 
@@ -31,6 +32,7 @@ mod voxel;
 mod voxel_raster;
 
 pub use aabb::Aabb;
+pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;
 pub use contact::{ContactParams, ContactRegion, contact_region, min_distance_m};
 pub use convex::{ConvexParams, convex_decomposition};
