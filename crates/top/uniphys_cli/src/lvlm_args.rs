@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use uniphys_lvlm::{LocalTokenBucket, RateLimiter};
+use uniphys_lvlm::{LocalTokenBucket, Pricing, RateLimiter};
 use uniphys_pipeline::LvlmOptions;
 
 /// Where the LVLM is and how much of it one process may use.
@@ -34,6 +34,14 @@ pub struct LvlmArgs {
     /// sent and the run fails).
     #[arg(long, env = "UNIPHYS_LVLM_BUDGET_USD")]
     pub lvlm_budget_usd: Option<f64>,
+    /// Prices of the model in USD per million tokens, `INPUT,OUTPUT` (images count as input,
+    /// reasoning as output): the cost ledger and the budget use them. `0,0` for a self-hosted
+    /// model.
+    #[arg(long, env = "UNIPHYS_LVLM_PRICE_USD_PER_MTOK", default_value = "1.25,10", value_parser = parse_pricing)]
+    pub lvlm_price_usd_per_mtok: Pricing,
+    /// Limit on one LVLM attempt, connect to last byte, in seconds (then it is retried).
+    #[arg(long, env = "UNIPHYS_LVLM_TIMEOUT_SECS", default_value_t = 120.0)]
+    pub lvlm_timeout_secs: f64,
     /// Directory of the LVLM answer cache (keyed by request digest): a repeated run does not pay
     /// twice. Workers that share it (a shared volume) share the answers.
     #[arg(long, env = "UNIPHYS_LVLM_CACHE_DIR")]
@@ -70,6 +78,8 @@ impl LvlmArgs {
                 api_key,
                 reasoning_effort,
                 max_concurrency: self.lvlm_concurrency,
+                request_timeout_secs: self.lvlm_timeout_secs,
+                pricing: self.lvlm_price_usd_per_mtok,
                 ..uniphys_lvlm::LvlmConfig::default()
             },
             budget_usd: self.lvlm_budget_usd,
@@ -77,6 +87,26 @@ impl LvlmArgs {
             rate_limiter,
             ..LvlmOptions::default()
         }))
+    }
+}
+
+/// `INPUT,OUTPUT` USD per million tokens.
+fn parse_pricing(text: &str) -> Result<Pricing, String> {
+    let prices: Vec<f64> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{text:?}: {e}; expected INPUT,OUTPUT USD per million tokens"))?;
+    match prices[..] {
+        [input, output] if [input, output].iter().all(|p| p.is_finite() && *p >= 0.0) => {
+            Ok(Pricing {
+                input_usd_per_million_tokens: input,
+                output_usd_per_million_tokens: output,
+            })
+        }
+        _ => Err(format!(
+            "{text:?}: expected two prices >= 0, INPUT,OUTPUT USD per million tokens (e.g. 1.25,10)"
+        )),
     }
 }
 
@@ -90,4 +120,19 @@ fn local_bucket(per_minute: u32) -> anyhow::Result<LocalTokenBucket> {
         f64::from(per_minute) / 60.0,
         per_minute,
     )?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prices_parse_as_input_then_output() {
+        let p = parse_pricing("0.5, 4").unwrap();
+        assert_eq!(p.input_usd_per_million_tokens, 0.5);
+        assert_eq!(p.output_usd_per_million_tokens, 4.0);
+        for bad in ["1", "1,2,3", "a,1", "-1,2", "1,inf"] {
+            assert!(parse_pricing(bad).is_err(), "{bad}");
+        }
+    }
 }
