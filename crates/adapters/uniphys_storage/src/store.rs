@@ -101,6 +101,15 @@ impl ArtifactStore {
         Ok((size, stream))
     }
 
+    /// Deletes the object at `key`; a missing object is not an error.
+    pub async fn delete(&self, key: &str) -> StorageResult<()> {
+        validate_key(key)?;
+        match self.store.delete(&StorePath::from(key)).await {
+            Ok(()) | Err(object_store::Error::NotFound { .. }) => Ok(()),
+            Err(source) => Err(StorageError::from_store(key, source)),
+        }
+    }
+
     /// Deletes every object under `prefix` (a whole key prefix, compared component by component);
     /// returns how many were deleted.
     pub async fn delete_prefix(&self, prefix: &str) -> StorageResult<usize> {

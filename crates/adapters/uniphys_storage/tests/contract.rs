@@ -216,6 +216,14 @@ async fn check_delete_prefix(store: &ArtifactStore) {
     // Prefixes are whole components: `cabinet` does not match `cabinetry`.
     assert_eq!(store.delete_prefix("cabinet").await.unwrap(), 0);
     assert_eq!(store.get("cabinetry/x").await.unwrap(), b"keep");
+    // One object: deleted, and deleting it again (or a missing key) is not an error.
+    store.put_once("single/y", b"gone".to_vec()).await.unwrap();
+    store.delete("single/y").await.unwrap();
+    assert!(matches!(
+        store.get("single/y").await,
+        Err(uniphys_storage::StorageError::NotFound { .. })
+    ));
+    store.delete("single/y").await.unwrap();
 }
 
 /// Two writers racing on one key with different content: exactly one wins, the other gets a

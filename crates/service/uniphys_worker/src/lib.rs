@@ -12,7 +12,8 @@
 //!
 //! Map: [`Stage`] (what a stage is) · [`StageRegistry`] and [`pipeline_job_spec`] (which stages
 //! exist, the graph an asset gets) · [`stages`] (ingest, decompose, convert, stand-ins) · [`FleetRateLimiter`] (the LVLM
-//! client's rate limit over the fleet's Redis bucket) · [`Worker`]
+//! client's rate limit over the fleet's Redis bucket) · [`StoreAnswerCache`] (its answers in the
+//! object store) · [`Worker`]
 //! (claim loops, reaper, shutdown) · [`WorkerConfig`].
 
 mod config;
@@ -24,6 +25,7 @@ mod registry;
 mod source;
 mod stage;
 pub mod stages;
+mod store_answer_cache;
 mod worker;
 
 pub use config::{StageSlots, WorkerConfig};
@@ -32,4 +34,5 @@ pub use fleet_rate_limit::FleetRateLimiter;
 pub use outputs::{OutputWriter, input_digest};
 pub use registry::{StageRegistry, pipeline_job_spec};
 pub use stage::{Stage, StageControl, StageError, StageInput, StageProgress};
+pub use store_answer_cache::StoreAnswerCache;
 pub use worker::{Worker, fresh_worker_id};

@@ -31,6 +31,9 @@ pub struct LvlmOptions {
     pub budget_usd: Option<f64>,
     /// Directory of the answer cache (a retried run does not pay twice); `None` for no cache.
     pub cache_dir: Option<PathBuf>,
+    /// An answer cache shared with other processes (the service passes one in its object
+    /// store); used instead of `cache_dir` when set.
+    pub cache: Option<Arc<dyn AnswerCache>>,
     /// Rate limiter shared with other clients (the service passes its fleet-wide Redis
     /// limiter); `None` for no limit beyond the client's concurrency.
     pub rate_limiter: Option<Arc<dyn RateLimiter>>,
@@ -44,6 +47,7 @@ impl std::fmt::Debug for LvlmOptions {
             .field("client", &self.client)
             .field("budget_usd", &self.budget_usd)
             .field("cache_dir", &self.cache_dir)
+            .field("cache", &self.cache.as_ref().map(|_| "<shared>"))
             .field(
                 "rate_limiter",
                 &self.rate_limiter.as_ref().map(|_| "<shared>"),
@@ -62,9 +66,10 @@ pub(crate) fn ground_lvlm(
     record: &mut AssetRecord,
     options: &LvlmOptions,
 ) -> PipelineResult<Vec<String>> {
-    let cache: Arc<dyn AnswerCache> = match &options.cache_dir {
-        Some(dir) => Arc::new(DirCache::new(dir.clone())?),
-        None => Arc::new(NoCache),
+    let cache: Arc<dyn AnswerCache> = match (&options.cache, &options.cache_dir) {
+        (Some(shared), _) => shared.clone(),
+        (None, Some(dir)) => Arc::new(DirCache::new(dir.clone())?),
+        (None, None) => Arc::new(NoCache),
     };
     let limiter: Arc<dyn RateLimiter> = options
         .rate_limiter

@@ -43,7 +43,7 @@ pub struct LvlmArgs {
     #[arg(long, env = "UNIPHYS_LVLM_TIMEOUT_SECS", default_value_t = 120.0)]
     pub lvlm_timeout_secs: f64,
     /// Directory of the LVLM answer cache (keyed by request digest): a repeated run does not pay
-    /// twice. Workers that share it (a shared volume) share the answers.
+    /// twice. Workers without one cache in the object store.
     #[arg(long, env = "UNIPHYS_LVLM_CACHE_DIR")]
     pub lvlm_cache_dir: Option<PathBuf>,
 }

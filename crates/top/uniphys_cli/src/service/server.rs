@@ -66,7 +66,7 @@ async fn start_worker(
     args: &WorkerArgs,
     shutdown: CancellationToken,
 ) -> anyhow::Result<tokio::task::JoinHandle<()>> {
-    let registry = args.registry(&opened.hints)?;
+    let registry = args.registry(&opened.hints, &opened.artifacts)?;
     let config = args.config(&registry)?;
     let worker = Worker::new(
         opened.store.clone(),

@@ -9,9 +9,10 @@ use anyhow::Context;
 use uniphys_decompose::DecomposeMode;
 use uniphys_hints::Hints;
 use uniphys_lvlm::RateLimiter;
+use uniphys_storage::ArtifactStore;
 use uniphys_vision::ClientConfig;
 use uniphys_worker::stages::{ConvertStage, DecomposeStage};
-use uniphys_worker::{FleetRateLimiter, StageRegistry, StageSlots, WorkerConfig};
+use uniphys_worker::{FleetRateLimiter, StageRegistry, StageSlots, StoreAnswerCache, WorkerConfig};
 
 use crate::lvlm_args::LvlmArgs;
 
@@ -102,14 +103,22 @@ fn parse_mode(text: &str) -> Result<DecomposeMode, String> {
 /// Name of the fleet's LVLM request bucket in Redis.
 const LVLM_BUCKET: &str = "lvlm";
 
+/// Where the fleet's LVLM answers are cached in the object store.
+const LVLM_ANSWERS_PREFIX: &str = "cache/lvlm-answers";
+
 impl WorkerArgs {
     /// The stages this process can run. The LVLM's request rate is shared with the fleet
-    /// through `hints` (Redis; the in-process twin keeps it per process); must be called inside
-    /// the service's runtime.
+    /// through `hints` (Redis; the in-process twin keeps it per process), and its answers are
+    /// cached in `artifacts` unless a cache directory is set; must be called inside the
+    /// service's runtime.
     ///
     /// # Errors
     /// An LVLM request rate of 0.
-    pub fn registry(&self, hints: &Hints) -> anyhow::Result<StageRegistry> {
+    pub fn registry(
+        &self,
+        hints: &Hints,
+        artifacts: &ArtifactStore,
+    ) -> anyhow::Result<StageRegistry> {
         if !self.stand_ins.is_empty() {
             let names: Vec<&str> = self.stand_ins.iter().map(String::as_str).collect();
             return Ok(StageRegistry::stand_ins(
@@ -132,6 +141,16 @@ impl WorkerArgs {
         };
         let mut convert = ConvertStage::default();
         convert.options.lvlm = self.lvlm.options(fleet_limit)?;
+        if let Some(lvlm) = &mut convert.options.lvlm
+            && lvlm.cache_dir.is_none()
+        {
+            // A retry on another worker finds the answers the first attempt paid for.
+            lvlm.cache = Some(Arc::new(StoreAnswerCache::new(
+                artifacts.clone(),
+                LVLM_ANSWERS_PREFIX,
+                tokio::runtime::Handle::current(),
+            )));
+        }
         let decompose = DecomposeStage {
             mode: self.decompose_mode,
             sam: self.sam_url.clone().map(ClientConfig::for_url),
