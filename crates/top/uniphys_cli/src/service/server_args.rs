@@ -1,9 +1,8 @@
 //! Arguments of `serve`, `api` and `worker`.
 
 use std::net::SocketAddr;
-use std::time::Duration;
-
 use std::sync::Arc;
+use std::time::Duration;
 
 use anyhow::Context;
 use uniphys_decompose::DecomposeMode;
