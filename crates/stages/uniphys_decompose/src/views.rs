@@ -294,3 +294,137 @@ pub fn face_material_ids(asset: &MeshAsset) -> Vec<u32> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use uniphys_geometry::{DVec3, MeshPart, SurfaceMaterial, Texture};
+
+    use super::*;
+
+    #[test]
+    fn face_colours_multiply_material_texture_and_vertex_colours() {
+        // Part 0: material 0 (half-grey base colour) with a 2 x 1 texture, red left, blue right;
+        // its faces' UV centroids fall on the left. Part 1: no material, white vertex colours
+        // except one green-tinted vertex.
+        let cube = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let n = cube.positions.len();
+        let textured = cube
+            .clone()
+            .with_uvs(vec![[0.25, 0.5]; n])
+            .and_then(|m| m.with_face_materials(vec![0; 12]));
+        let tinted = cube.with_vertex_colors(
+            (0..n)
+                .map(|v| {
+                    if v == 0 {
+                        [0.0, 1.0, 0.0, 1.0]
+                    } else {
+                        [1.0; 4]
+                    }
+                })
+                .collect(),
+        );
+        let (Ok(textured), Ok(tinted)) = (textured, tinted) else {
+            panic!("valid attributes");
+        };
+        let asset = MeshAsset {
+            parts: vec![
+                MeshPart {
+                    name: "a".into(),
+                    mesh: textured,
+                },
+                MeshPart {
+                    name: "b".into(),
+                    mesh: tinted,
+                },
+            ],
+            materials: vec![SurfaceMaterial {
+                name: "grey".into(),
+                base_color_rgba: [0.5, 0.5, 0.5, 1.0],
+                base_color_texture: Some(0),
+            }],
+            textures: vec![Texture {
+                name: "t".into(),
+                width: 2,
+                height: 1,
+                rgba8: vec![255, 0, 0, 255, 0, 0, 255, 255],
+            }],
+            joints: vec![],
+        };
+        let colours = face_colours(&asset);
+        assert_eq!(colours.len(), 24);
+        // Linear 0.5 red is sRGB 188.
+        assert_eq!(colours[0], [188, 0, 0, 255]);
+        // Face 0 of the cube uses vertex 0: red and blue drop to 2/3 (sRGB 213), green stays.
+        assert_eq!(colours[12], [213, 255, 213, 255]);
+        // Face 2 (+z) does not touch vertex 0.
+        assert_eq!(colours[14], [255, 255, 255, 255]);
+        let ids = face_material_ids(&asset);
+        assert_eq!((ids[0], ids[12]), (0, u32::MAX));
+    }
+
+    #[test]
+    fn pixel_rays_project_and_unproject_like_the_camera() {
+        let bounds = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.5, 0.3)).bounds();
+        for camera in uniphys_render::orbit_cameras(&bounds, 8, 40, 30) {
+            let rays = PixelRays::new(&camera);
+            for point in [
+                DVec3::ZERO,
+                DVec3::new(1.0, 0.5, 0.3),
+                DVec3::new(0.7, 0.1, 0.2),
+            ] {
+                let (Some(p), Some((x, y, depth))) = (camera.project(point), rays.project(point))
+                else {
+                    panic!("in front of the camera");
+                };
+                assert!((p.x_px - x).abs() < 1e-9 && (p.y_px - y).abs() < 1e-9);
+                assert!((p.depth_m - depth).abs() < 1e-9);
+                let back = camera.eye_m + rays.point_at(x, y, depth);
+                assert!(back.distance(point) < 1e-9, "{back} != {point}");
+            }
+            // Behind the camera.
+            let behind = camera.eye_m + (camera.eye_m - camera.target_m);
+            assert!(rays.project(behind).is_none() && camera.project(behind).is_none());
+        }
+    }
+
+    #[test]
+    fn views_are_rendered_at_the_requested_size_and_invalid_options_refused() {
+        let mesh = TriMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        let rgba = vec![[200, 100, 50, 255]; 12];
+        let options = ViewOptions {
+            count: 3,
+            resolution_px: 32,
+        };
+        let Ok(views) = render_views(&mesh, &rgba, &options) else {
+            panic!("renders");
+        };
+        assert_eq!(
+            (
+                views.cameras.len(),
+                views.face_ids.len(),
+                views.colour.len()
+            ),
+            (3, 3, 3)
+        );
+        for (ids, colour) in views.face_ids.iter().zip(&views.colour) {
+            assert_eq!((ids.width_px, ids.height_px), (32, 32));
+            assert!(ids.covered_pixels() > 32);
+            // Colour is opaque exactly where a face is visible.
+            for (face, px) in ids.face.iter().zip(&colour.pixels) {
+                assert_eq!(*face > 0, px[3] > 0);
+            }
+        }
+        let bad = ViewOptions {
+            count: 0,
+            ..options
+        };
+        assert!(matches!(
+            render_views(&mesh, &rgba, &bad),
+            Err(DecomposeError::InvalidOption(_))
+        ));
+        assert!(matches!(
+            render_views(&mesh, &rgba[..5], &options),
+            Err(DecomposeError::InvalidInput(_))
+        ));
+    }
+}
