@@ -10,6 +10,7 @@
 //!   ([`perceive`]);
 //! - [`candidates`]: a [`CandidateGenerator`] gives decompositions for K in a range (built-in
 //!   geometric clustering, or per-face features from a PartField-compatible service);
+//!   [`providers`] picks the segmenter and generator from the service settings;
 //! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size;
@@ -29,6 +30,7 @@ pub mod output;
 pub mod perception;
 pub mod policy;
 pub mod prior;
+pub mod providers;
 pub mod refine;
 pub mod score;
 pub mod segment;
@@ -47,6 +49,7 @@ pub use output::{DecomposeSummary, Decomposition};
 pub use perception::{Perception, PerceptionOptions, perceive};
 pub use policy::{DecomposeMode, FRAGMENTED_PART_COUNT, needs_decomposition};
 pub use prior::k_range;
+pub use providers::{generator_for, segmenter_for};
 pub use score::{PartScore, score_parts};
 pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
 pub use split::split_asset;

@@ -5,14 +5,11 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use uniphys_decompose::candidates::PartFieldGenerator;
-use uniphys_decompose::segment::SamSegmenter;
 use uniphys_decompose::{
-    BuiltinSegmenter, CandidateGenerator, DecomposeOptions, GeometricGenerator, PerceptionOptions,
-    Segmenter, ViewOptions, decompose_asset,
+    DecomposeOptions, PerceptionOptions, ViewOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_vision::{ClientConfig, PartFieldClient, SamClient};
+use uniphys_vision::ClientConfig;
 
 use crate::args::{StageRunArgs, metres_per_unit};
 
@@ -50,20 +47,11 @@ fn decompose(args: &StageRunArgs) -> anyhow::Result<ExitCode> {
         seed: args.seed,
         ..DecomposeOptions::default()
     };
-    let segmenter: Box<dyn Segmenter> = match &args.sam_url {
-        Some(url) => Box::new(SamSegmenter::new(
-            SamClient::new(ClientConfig::for_url(url.clone()))
-                .context("the SAM-compatible service settings")?,
-        )),
-        None => Box::new(BuiltinSegmenter::default()),
-    };
-    let generator: Box<dyn CandidateGenerator> = match &args.partfield_url {
-        Some(url) => Box::new(PartFieldGenerator::new(
-            PartFieldClient::new(ClientConfig::for_url(url.clone()))
-                .context("the PartField-compatible service settings")?,
-        )),
-        None => Box::new(GeometricGenerator::default()),
-    };
+    let sam = args.sam_url.clone().map(ClientConfig::for_url);
+    let partfield = args.partfield_url.clone().map(ClientConfig::for_url);
+    let segmenter = segmenter_for(sam.as_ref()).context("the SAM-compatible service settings")?;
+    let generator =
+        generator_for(partfield.as_ref()).context("the PartField-compatible service settings")?;
     let (_, decomposition) = decompose_asset(
         &loaded.asset,
         segmenter.as_ref(),

@@ -6,14 +6,11 @@
 //! An input that keeps its own parts gets a summary only.
 
 use serde_json::{Value, json};
-use uniphys_decompose::candidates::PartFieldGenerator;
-use uniphys_decompose::segment::SamSegmenter;
 use uniphys_decompose::{
-    BuiltinSegmenter, CandidateGenerator, DecomposeError, DecomposeMode, DecomposeOptions,
-    GeometricGenerator, Segmenter, decompose_asset,
+    DecomposeError, DecomposeMode, DecomposeOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_vision::{ClientConfig, PartFieldClient, SamClient, VisionError};
+use uniphys_vision::{ClientConfig, VisionError};
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
@@ -35,27 +32,6 @@ pub struct DecomposeStage {
     pub sam: Option<ClientConfig>,
     /// A PartField-compatible feature service; `None` for the built-in geometric generator.
     pub partfield: Option<ClientConfig>,
-}
-
-impl DecomposeStage {
-    fn segmenter(&self) -> Result<Box<dyn Segmenter>, StageError> {
-        Ok(match &self.sam {
-            Some(config) => Box::new(SamSegmenter::new(
-                SamClient::new(config.clone()).map_err(|e| StageError::Permanent(e.to_string()))?,
-            )),
-            None => Box::new(BuiltinSegmenter::default()),
-        })
-    }
-
-    fn generator(&self) -> Result<Box<dyn CandidateGenerator>, StageError> {
-        Ok(match &self.partfield {
-            Some(config) => Box::new(PartFieldGenerator::new(
-                PartFieldClient::new(config.clone())
-                    .map_err(|e| StageError::Permanent(e.to_string()))?,
-            )),
-            None => Box::new(GeometricGenerator::default()),
-        })
-    }
 }
 
 /// A vision service that stayed away through its retries may be back for the next attempt;
@@ -105,7 +81,8 @@ impl Stage for DecomposeStage {
         }
         control.check()?;
         control.progress(0.2, "decomposing");
-        let (segmenter, generator) = (self.segmenter()?, self.generator()?);
+        let segmenter = segmenter_for(self.sam.as_ref()).map_err(classify)?;
+        let generator = generator_for(self.partfield.as_ref()).map_err(classify)?;
         let (_, decomposition) = decompose_asset(
             &asset,
             segmenter.as_ref(),
