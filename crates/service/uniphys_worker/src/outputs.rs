@@ -67,6 +67,13 @@ impl OutputWriter {
         &self.prefix
     }
 
+    /// Writes `value` as pretty-printed JSON named `name`, as [`OutputWriter::put`] does.
+    pub fn put_json(&mut self, name: &str, value: &serde_json::Value) -> Result<(), StageError> {
+        let bytes = serde_json::to_vec_pretty(value)
+            .map_err(|e| StageError::Permanent(format!("encoding {name}: {e}")))?;
+        self.put(name, bytes)
+    }
+
     /// Writes `bytes` as `name` (create-only: the same bytes already there count as written;
     /// different bytes under the same key are a permanent error).
     pub fn put(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), StageError> {

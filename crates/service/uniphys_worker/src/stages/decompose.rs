@@ -76,7 +76,7 @@ impl Stage for DecomposeStage {
                     self.mode
                 ),
             });
-            out.put("decompose.json", to_json(&summary)?)?;
+            out.put_json("decompose.json", &summary)?;
             return Ok(summary);
         }
         control.check()?;
@@ -107,8 +107,4 @@ impl Stage for DecomposeStage {
             "secs": summary.total_secs(),
         }))
     }
-}
-
-fn to_json(value: &Value) -> Result<Vec<u8>, StageError> {
-    serde_json::to_vec_pretty(value).map_err(|e| StageError::Permanent(e.to_string()))
 }

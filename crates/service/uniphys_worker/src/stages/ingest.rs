@@ -44,9 +44,7 @@ impl Stage for IngestStage {
             "dropped_degenerate_triangles": loaded.dropped_degenerate_triangles,
             "warnings": loaded.warnings,
         });
-        let bytes = serde_json::to_vec_pretty(&summary)
-            .map_err(|e| StageError::Permanent(e.to_string()))?;
-        out.put("summary.json", bytes)?;
+        out.put_json("summary.json", &summary)?;
         Ok(summary)
     }
 }
