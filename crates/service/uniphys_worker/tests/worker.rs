@@ -95,6 +95,20 @@ impl Fixture {
         (shutdown, handle)
     }
 
+    /// Submits `path` with the pipeline's graph, runs the real pipeline on one slot per stage
+    /// until the job finishes (or `within` passes), stops the worker and returns the job.
+    async fn run_pipeline(&self, path: &Path, within: Duration) -> uniphys_queue::JobDetail {
+        let sub = self.submit_file(path, &pipeline_job_spec()).await;
+        let (shutdown, handle) = self.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
+        self.wait_finished(&[sub.job_id], within).await;
+        shutdown.cancel();
+        handle.await.expect("worker stops");
+        self.store
+            .get_job(self.tenant, sub.job_id)
+            .await
+            .expect("job")
+    }
+
     async fn wait_finished(&self, jobs: &[uniphys_queue::JobId], within: Duration) {
         let until = Instant::now() + within;
         loop {
@@ -180,13 +194,7 @@ async fn a_broken_input_is_dead_lettered_at_once_with_a_readable_error() {
     let dir = tempfile::tempdir().expect("temp dir");
     let broken = dir.path().join("broken.glb");
     std::fs::write(&broken, b"glTF this is not a real binary glTF").expect("write");
-    let sub = f.submit_file(&broken, &pipeline_job_spec()).await;
-    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
-    f.wait_finished(&[sub.job_id], Duration::from_secs(60))
-        .await;
-    shutdown.cancel();
-    handle.await.expect("worker stops");
-    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    let job = f.run_pipeline(&broken, Duration::from_secs(60)).await;
     assert_eq!(job.state, JobState::Dead);
     let ingest = job.stage("ingest").expect("ingest");
     assert_eq!(ingest.state, StageState::Dead);
@@ -208,13 +216,7 @@ async fn a_broken_input_is_dead_lettered_at_once_with_a_readable_error() {
 async fn the_pipeline_converts_an_example_into_its_artifacts() {
     let f = fixture().await;
     let mug = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples/mug.glb");
-    let sub = f.submit_file(&mug, &pipeline_job_spec()).await;
-    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
-    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
-        .await;
-    shutdown.cancel();
-    handle.await.expect("worker stops");
-    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    let job = f.run_pipeline(&mug, Duration::from_secs(600)).await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
     let convert = job.stage("convert").expect("convert");
     let manifest = OutputManifest::from_value(convert.output_manifest.as_ref().expect("manifest"))
@@ -250,13 +252,7 @@ async fn an_asset_in_one_piece_is_decomposed_and_converted_with_the_found_parts(
     let glb =
         uniphys_examples::write_glb(&one_piece, uniphys_examples::GlbFrame::YUp).expect("glb");
     std::fs::write(&path, glb).expect("write");
-    let sub = f.submit_file(&path, &pipeline_job_spec()).await;
-    let (shutdown, handle) = f.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
-    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
-        .await;
-    shutdown.cancel();
-    handle.await.expect("worker stops");
-    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    let job = f.run_pipeline(&path, Duration::from_secs(600)).await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
     let manifest = |stage: &str| {
         let run = job.stage(stage).expect("stage");
