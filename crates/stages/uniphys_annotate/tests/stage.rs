@@ -39,6 +39,14 @@ fn good(request: &RecordedRequest) -> Reply {
 }
 
 fn run(server: &ReplayServer, ledger: &CostLedger) -> Result<Annotation, AnnotateError> {
+    run_with(server, ledger, &options())
+}
+
+fn run_with(
+    server: &ReplayServer,
+    ledger: &CostLedger,
+    options: &AnnotateOptions,
+) -> Result<Annotation, AnnotateError> {
     let asset = box_with_lid();
     let client = client(config(&server.url()), Arc::new(NoCache));
     annotate(
@@ -50,7 +58,7 @@ fn run(server: &ReplayServer, ledger: &CostLedger) -> Result<Annotation, Annotat
         },
         &client,
         ledger,
-        &options(),
+        options,
     )
 }
 
@@ -249,23 +257,11 @@ fn an_articulation_answer_still_invalid_fails_the_stage_or_fixes_the_part_when_a
         }
         other => panic!("{other}"),
     }
-    let asset = box_with_lid();
-    let client = client(config(&server.url()), Arc::new(NoCache));
-    let a = annotate(
-        &AnnotateInput {
-            object_name: "box_with_lid",
-            part_meshes: &asset.meshes,
-            part_colours: &asset.colours,
-            part_names: &asset.names,
-        },
-        &client,
-        &CostLedger::new(None),
-        &AnnotateOptions {
-            fix_unanswered_parts: true,
-            ..options()
-        },
-    )
-    .expect("annotated");
+    let fix = AnnotateOptions {
+        fix_unanswered_parts: true,
+        ..options()
+    };
+    let a = run_with(&server, &CostLedger::new(None), &fix).expect("annotated");
     assert_eq!(a.articulation_failures.len(), 1);
     assert_eq!(a.articulation_failures[0].label, 2);
     assert!(a.articulation_failures[0].reason.contains("axis_colour"));
