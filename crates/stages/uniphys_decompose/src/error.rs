@@ -32,5 +32,17 @@ pub enum DecomposeError {
     Vision(#[from] uniphys_vision::VisionError),
 }
 
+impl DecomposeError {
+    /// Whether the same run may succeed later: a vision service that stayed away through its
+    /// retries may be back; every other failure would repeat.
+    #[must_use]
+    pub fn is_transient(&self) -> bool {
+        matches!(
+            self,
+            Self::Vision(uniphys_vision::VisionError::GaveUp { .. })
+        )
+    }
+}
+
 /// Result of the decomposition stage.
 pub type DecomposeResult<T> = Result<T, DecomposeError>;

@@ -45,5 +45,61 @@ pub enum PipelineError {
     Empty(String),
 }
 
+impl PipelineError {
+    /// Whether the same run may succeed later: a model server (LVLM, UniPhysGen) or vision
+    /// service that stayed away, or answered out of format, through every retry (answers
+    /// already paid for are cached). Every other failure would repeat.
+    #[must_use]
+    pub fn is_transient(&self) -> bool {
+        use uniphys_uniphysgen::UniPhysGenError;
+        match self {
+            Self::Lvlm(e) | Self::Annotate(uniphys_annotate::AnnotateError::Lvlm(e)) => {
+                e.is_transient()
+            }
+            Self::Model(e) => matches!(
+                e,
+                UniPhysGenError::GaveUp { .. }
+                    | UniPhysGenError::Timeout { .. }
+                    | UniPhysGenError::NoSlot { .. }
+            ),
+            Self::Decompose(e) => e.is_transient(),
+            _ => false,
+        }
+    }
+}
+
 /// Result alias for [`PipelineError`].
 pub type PipelineResult<T> = Result<T, PipelineError>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn servers_that_stayed_away_are_transient_and_bad_inputs_are_not() {
+        let lvlm_away = uniphys_lvlm::LvlmError::GaveUp {
+            purpose: "properties".into(),
+            attempts: 4,
+            last_failure: "HTTP 503".into(),
+        };
+        assert!(PipelineError::Lvlm(lvlm_away).is_transient());
+        let vision_away = uniphys_vision::VisionError::GaveUp {
+            service: "sam",
+            path: "/v1/masks",
+            base_url: "http://sam".into(),
+            attempts: 4,
+            reason: "timeout".into(),
+        };
+        let decompose = uniphys_decompose::DecomposeError::Vision(vision_away);
+        assert!(decompose.is_transient());
+        assert!(PipelineError::Decompose(decompose).is_transient());
+        assert!(!PipelineError::Empty("no parts".into()).is_transient());
+        assert!(
+            !PipelineError::Annotate(uniphys_annotate::AnnotateError::ArticulationFailed {
+                label: 2,
+                reason: "invalid".into(),
+            })
+            .is_transient()
+        );
+    }
+}

@@ -7,9 +7,7 @@
 use std::time::Duration;
 
 use serde_json::{Value, json};
-use uniphys_annotate::AnnotateError;
 use uniphys_pipeline::{PipelineError, Progress, RunOptions, Stage as PipelineStage, run};
-use uniphys_uniphysgen::UniPhysGenError;
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
@@ -95,24 +93,10 @@ impl Stage for ConvertStage {
     }
 }
 
-/// An LVLM (or UniPhysGen) server that stayed away or answered out of format through every
-/// retry may do better on the next attempt (answers already paid for are cached); every other
-/// failure would repeat.
+/// A failure the same run may get past later ([`PipelineError::is_transient`]) is retried.
 fn classify(error: PipelineError) -> StageError {
-    let transient = match &error {
-        PipelineError::Lvlm(e) | PipelineError::Annotate(AnnotateError::Lvlm(e)) => {
-            e.is_transient()
-        }
-        PipelineError::Model(e) => matches!(
-            e,
-            UniPhysGenError::GaveUp { .. }
-                | UniPhysGenError::Timeout { .. }
-                | UniPhysGenError::NoSlot { .. }
-        ),
-        _ => false,
-    };
     let message = format!("the pipeline failed: {error}");
-    if transient {
+    if error.is_transient() {
         StageError::Transient(message)
     } else {
         StageError::Permanent(message)

@@ -10,7 +10,7 @@ use uniphys_decompose::{
     DecomposeError, DecomposeMode, DecomposeOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_vision::{ClientConfig, VisionError};
+use uniphys_vision::ClientConfig;
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
@@ -34,13 +34,13 @@ pub struct DecomposeStage {
     pub partfield: Option<ClientConfig>,
 }
 
-/// A vision service that stayed away through its retries may be back for the next attempt;
-/// everything else would fail the same way again.
+/// A failure the same run may get past later ([`DecomposeError::is_transient`]) is retried.
 fn classify(error: DecomposeError) -> StageError {
     let message = format!("decomposition failed: {error}");
-    match error {
-        DecomposeError::Vision(VisionError::GaveUp { .. }) => StageError::Transient(message),
-        _ => StageError::Permanent(message),
+    if error.is_transient() {
+        StageError::Transient(message)
+    } else {
+        StageError::Permanent(message)
     }
 }
 
