@@ -11,6 +11,8 @@
 //!   worker gets [`QueueError::LeaseLost`] and changes nothing;
 //! - [`QueueStore::complete`] records the output manifest, unblocks dependent stages and finishes
 //!   the job in one transaction;
+//! - batches label sets of jobs for dataset statistics ([`QueueStore::submit_in_batch`]); the
+//!   dashboard's lists ([`QueueStore::list_work`]) read through indexes sized by the page;
 //! - all times come from the database clock, in Unix milliseconds (`*_at_ms`).
 //!
 //! Migrations live in the workspace's `migrations/{postgres,sqlite}/` and are embedded here.
@@ -34,8 +36,9 @@ pub use retry_policy::RetryPolicy;
 pub use spec::{DEFAULT_MAX_ATTEMPTS, JobSpec, StageSpec};
 pub use state::{JobState, StageState};
 pub use store::{
-    AssetInfo, Backend, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome, FailureKind,
-    JobDetail, JobEvent, JobFilter, JobSummary, Lease, MAX_MANIFEST_BYTES, NewAsset, PurgeReport,
-    QueueStore, RecoveryReport, RetentionPolicy, RunContext, RunRef, StageCost, StageFailure,
-    StageRunInfo, StageStats, Submission, TableHealth,
+    AssetInfo, Backend, BatchSummary, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome,
+    FailureKind, JobDetail, JobEvent, JobFilter, JobSummary, Lease, MAX_BATCH_LABEL_CHARS,
+    MAX_MANIFEST_BYTES, NewAsset, PurgeReport, QueueStore, RecoveryReport, RetentionPolicy,
+    RunContext, RunRef, StageCost, StageFailure, StageRunInfo, StageStats, Submission, TableHealth,
+    WorkItem, validate_batch_label,
 };

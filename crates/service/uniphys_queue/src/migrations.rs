@@ -12,19 +12,35 @@ use crate::db::Dialect;
 /// (version, description, up, down)
 type Embedded = (i64, &'static str, &'static str, &'static str);
 
-const POSTGRES: &[Embedded] = &[(
-    1,
-    "queue",
-    include_str!("../../../../migrations/postgres/0001_queue.up.sql"),
-    include_str!("../../../../migrations/postgres/0001_queue.down.sql"),
-)];
+const POSTGRES: &[Embedded] = &[
+    (
+        1,
+        "queue",
+        include_str!("../../../../migrations/postgres/0001_queue.up.sql"),
+        include_str!("../../../../migrations/postgres/0001_queue.down.sql"),
+    ),
+    (
+        2,
+        "dashboard",
+        include_str!("../../../../migrations/postgres/0002_dashboard.up.sql"),
+        include_str!("../../../../migrations/postgres/0002_dashboard.down.sql"),
+    ),
+];
 
-const SQLITE: &[Embedded] = &[(
-    1,
-    "queue",
-    include_str!("../../../../migrations/sqlite/0001_queue.up.sql"),
-    include_str!("../../../../migrations/sqlite/0001_queue.down.sql"),
-)];
+const SQLITE: &[Embedded] = &[
+    (
+        1,
+        "queue",
+        include_str!("../../../../migrations/sqlite/0001_queue.up.sql"),
+        include_str!("../../../../migrations/sqlite/0001_queue.down.sql"),
+    ),
+    (
+        2,
+        "dashboard",
+        include_str!("../../../../migrations/sqlite/0002_dashboard.up.sql"),
+        include_str!("../../../../migrations/sqlite/0002_dashboard.down.sql"),
+    ),
+];
 
 /// Builds the migrator for `dialect`.
 pub(crate) fn migrator(dialect: Dialect) -> Migrator {

@@ -30,12 +30,14 @@ impl Default for JobFilter {
 }
 
 /// One job in a listing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct JobSummary {
     /// The job.
     pub id: JobId,
     /// Its asset.
     pub asset_id: AssetId,
+    /// Where the asset's source is (object-store key).
+    pub source_uri: String,
     /// Where it is.
     pub state: JobState,
     /// Its priority.
@@ -47,12 +49,13 @@ pub struct JobSummary {
 }
 
 static LIST: Sql = Sql::new(
-    "SELECT id, asset_id, state, priority, created_at_ms, finished_at_ms FROM jobs
-     WHERE tenant_id = $1
-       AND ($2 IS NULL OR state = $2)
-       AND ($3 IS NULL OR asset_id = $3)
-       AND ($4 IS NULL OR id < $4)
-     ORDER BY id DESC
+    "SELECT j.id, j.asset_id, a.source_uri, j.state, j.priority, j.created_at_ms, j.finished_at_ms
+     FROM jobs j JOIN assets a ON a.id = j.asset_id
+     WHERE j.tenant_id = $1
+       AND ($2 IS NULL OR j.state = $2)
+       AND ($3 IS NULL OR j.asset_id = $3)
+       AND ($4 IS NULL OR j.id < $4)
+     ORDER BY j.id DESC
      LIMIT $5",
 );
 
@@ -87,6 +90,7 @@ fn summary(row: &DbRow) -> QueueResult<JobSummary> {
     Ok(JobSummary {
         id: JobId(row.i64("id")?),
         asset_id: AssetId(row.i64("asset_id")?),
+        source_uri: row.text("source_uri")?,
         state: JobState::parse(&row.text("state")?)?,
         priority: i32::try_from(row.i64("priority")?)
             .map_err(|_| QueueError::CorruptRow("priority out of range".into()))?,

@@ -5,6 +5,7 @@
 //! only ready runs and skip locked ones.
 
 mod assets;
+mod batches;
 mod claim;
 mod complete;
 mod control;
@@ -19,11 +20,13 @@ mod retention;
 mod stats;
 mod submit;
 mod tenants;
+mod work;
 
 use crate::db::{Db, Dialect};
 use crate::{QueueResult, RetryPolicy, StoreConfig};
 
 pub use assets::{AssetInfo, RunContext};
+pub use batches::{BatchSummary, MAX_BATCH_LABEL_CHARS, validate_batch_label};
 pub use claim::{ClaimedRun, Lease};
 pub use complete::{CompleteOutcome, MAX_MANIFEST_BYTES, StageCost};
 pub use control::RunRef;
@@ -35,6 +38,7 @@ pub use read::{JobDetail, StageRunInfo};
 pub use retention::{PurgeReport, RetentionPolicy};
 pub use stats::StageStats;
 pub use submit::{NewAsset, Submission};
+pub use work::WorkItem;
 
 /// Which database a store runs on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

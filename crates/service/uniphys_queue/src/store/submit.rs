@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde_json::json;
 
 use super::QueueStore;
+use super::batches::{add_to_batch, validate_batch_label};
 use super::events::{self, EventSubject};
 use crate::db::{Session, Sql, args};
 use crate::{AssetId, JobId, JobSpec, QueueError, QueueResult, StageState, TenantId};
@@ -69,7 +70,22 @@ impl QueueStore {
         asset: &NewAsset,
         spec: &JobSpec,
     ) -> QueueResult<Submission> {
+        self.submit_in_batch(tenant, asset, spec, None).await
+    }
+
+    /// [`submit`](Self::submit), and in the same transaction adds the job (new or existing) to
+    /// the tenant's batch labelled `batch` (see [`validate_batch_label`]).
+    pub async fn submit_in_batch(
+        &self,
+        tenant: TenantId,
+        asset: &NewAsset,
+        spec: &JobSpec,
+        batch: Option<&str>,
+    ) -> QueueResult<Submission> {
         spec.validate()?;
+        if let Some(label) = batch {
+            validate_batch_label(label)?;
+        }
         let size = i64::try_from(asset.size_bytes)
             .map_err(|_| QueueError::Invalid("asset too large".into()))?;
         let mut tx = self.db.write_tx().await?;
@@ -103,6 +119,9 @@ impl QueueStore {
             Some(row) => (JobId(row.i64("id")?), false),
             None => (insert_job(&mut tx, tenant, asset_id, spec).await?, true),
         };
+        if let Some(label) = batch {
+            add_to_batch(&mut tx, tenant, label, job_id).await?;
+        }
         tx.commit().await?;
         Ok(Submission {
             asset_id,
