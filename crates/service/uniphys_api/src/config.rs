@@ -30,6 +30,13 @@ pub struct ApiConfig {
     pub url_prefixes: Vec<String>,
     /// The window over which `GET /v1/stats` counts throughput and failures.
     pub stats_window: Duration,
+    /// How old the dashboard's statistics (`GET /v1/overview`) may be before a request
+    /// recomputes them; many viewers then cost one query per interval.
+    pub board_refresh: Duration,
+    /// How often the dashboard's history takes a sample.
+    pub history_interval: Duration,
+    /// Samples kept (720 at 5 s: one hour).
+    pub history_len: usize,
 }
 
 impl ApiConfig {
@@ -46,6 +53,9 @@ impl ApiConfig {
             upload_tmp_dir: None,
             url_prefixes: vec!["incoming/t{tenant}/".into(), "sources/t{tenant}/".into()],
             stats_window: Duration::from_secs(300),
+            board_refresh: Duration::from_secs(1),
+            history_interval: Duration::from_secs(5),
+            history_len: 720,
         }
     }
 

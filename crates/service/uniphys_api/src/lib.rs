@@ -18,7 +18,11 @@
 //! | `GET /v1/assets/{asset_id}/artifacts[/{stage}/{name}]` | artifacts of succeeded stages; streamed download |
 //! | `GET /v1/jobs/{job_id}[/events]`, `POST /v1/jobs/{job_id}/cancel`, `.../retry` | job status, history, control |
 //! | `GET /v1/stats` | per stage: depth, running, failed, throughput, oldest waiting age |
+//! | `GET /v1/overview?since_ms=` | the dashboard's poll: cached statistics, the tenant's jobs by state, history samples |
+//! | `GET /v1/work?state=running\|dead` | open or dead-lettered stage runs of the newest jobs, with last error and progress |
+//! | `GET /v1/batches`, `GET /v1/batches/{batch}/stats` | batch labels; a batch's dataset statistics |
 //! | `GET /healthz`, `/readyz`, `/metrics`, `/openapi.json` | operations (no key) |
+//! | `GET /`, `/ui/...` | the dashboard's static files (no key; the pages ask for one) |
 //!
 //! Ids are answered as `asset_12`, `job_7`; paths accept `asset_12` or `12`.
 //!
@@ -29,9 +33,13 @@
 //! - `error.rs`: [`ApiError`] and its mapping to statuses.
 //! - `extract.rs`: tenant, JSON, query and path extractors answering in the error format.
 //! - `ids.rs`, `upload.rs`, `views.rs`: ids in paths, spooling uploads, answer shapes.
+//! - `board.rs`: the dashboard's shared statistics, history sampler and per-tenant counts.
+//! - `dataset_stats.rs`: [`DatasetStats`] of a batch from its `convert` summaries.
 //! - `routes/`: the handlers, one file per resource.
 
+mod board;
 mod config;
+mod dataset_stats;
 mod error;
 mod extract;
 mod hooks;
@@ -43,6 +51,7 @@ mod upload;
 mod views;
 
 pub use config::{ApiConfig, DEFAULT_MAX_UPLOAD_BYTES};
+pub use dataset_stats::{DatasetStats, Distribution, dataset_stats};
 pub use error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 pub use hooks::{BoxFuture, MetricsText, NoHooks, ReadinessCheck, ServiceHooks};
 pub use router::{openapi, router, serve};

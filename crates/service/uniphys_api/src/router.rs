@@ -16,7 +16,7 @@ use utoipa_axum::routes;
 
 use crate::error::ApiError;
 use crate::routes::ops::OpenApiJson;
-use crate::routes::{artifacts, assets, import, jobs, ops, submit};
+use crate::routes::{artifacts, assets, batches, import, jobs, ops, overview, submit, work};
 use crate::state::Shared;
 use crate::{ApiState, ServiceHooks};
 
@@ -55,7 +55,8 @@ fn api_routes() -> OpenApiRouter<Shared> {
     OpenApiRouter::with_openapi(ApiDoc::openapi())
         .routes(routes!(submit::upload, assets::list))
         .routes(routes!(import::by_url))
-        .routes(routes!(import::batch))
+        .routes(routes!(import::batch, batches::list))
+        .routes(routes!(batches::stats))
         .routes(routes!(assets::get))
         .routes(routes!(artifacts::list))
         .routes(routes!(artifacts::download))
@@ -63,7 +64,9 @@ fn api_routes() -> OpenApiRouter<Shared> {
         .routes(routes!(jobs::events))
         .routes(routes!(jobs::cancel))
         .routes(routes!(jobs::retry))
+        .routes(routes!(work::list))
         .routes(routes!(ops::stats))
+        .routes(routes!(overview::overview))
         .routes(routes!(ops::healthz))
         .routes(routes!(ops::readyz))
         .routes(routes!(ops::metrics))
@@ -103,12 +106,16 @@ pub async fn serve(
 pub fn router(state: ApiState) -> Router {
     let hooks = state.hooks.clone();
     let shared: Shared = Arc::new(state);
+    if tokio::runtime::Handle::try_current().is_ok() {
+        tokio::spawn(crate::board::sample_history(Arc::downgrade(&shared)));
+    }
     let (router, doc) = api_routes().split_for_parts();
     let doc = with_openapi_path_syntax(doc);
     let json = doc
         .to_pretty_json()
         .unwrap_or_else(|e| format!("{{\"error\": \"openapi document: {e}\"}}"));
     router
+        .merge(uniphys_dashboard::router())
         .fallback(not_found)
         .layer(Extension(OpenApiJson(Arc::new(json))))
         .layer(middleware::from_fn_with_state(shared.clone(), observe))

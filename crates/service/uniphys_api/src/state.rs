@@ -5,6 +5,7 @@ use std::sync::Arc;
 use uniphys_queue::QueueStore;
 use uniphys_storage::ArtifactStore;
 
+use crate::board::Board;
 use crate::{ApiConfig, NoHooks, ServiceHooks};
 
 /// The API's dependencies. [`crate::router`] wraps it in an `Arc`, so it need not be cheap to
@@ -19,6 +20,8 @@ pub struct ApiState {
     pub config: ApiConfig,
     /// Doorbell, progress, metrics, trace context, readiness.
     pub hooks: Arc<dyn ServiceHooks>,
+    /// The dashboard's cached statistics and history.
+    pub(crate) board: Arc<Board>,
 }
 
 impl ApiState {
@@ -30,6 +33,7 @@ impl ApiState {
             artifacts,
             config,
             hooks: Arc::new(NoHooks),
+            board: Arc::default(),
         }
     }
 

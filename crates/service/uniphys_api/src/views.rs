@@ -195,3 +195,8 @@ impl From<&StageCost> for CostView {
         }
     }
 }
+
+/// The file name at the end of a source key (`sources/t1/<sha>/cabinet.glb` → `cabinet.glb`).
+pub(crate) fn file_name(source_key: &str) -> &str {
+    source_key.rsplit('/').next().unwrap_or(source_key)
+}

@@ -40,6 +40,8 @@ pub struct JobListItem {
     pub asset_id: String,
     /// `job_<n>`.
     pub job_id: String,
+    /// The submitted file's name.
+    pub file_name: String,
     /// `running`, `succeeded`, `dead` or `cancelled`.
     pub state: String,
     /// Higher runs first.
@@ -117,6 +119,7 @@ pub(crate) async fn list(
         .map(|j| JobListItem {
             asset_id: j.asset_id.to_string(),
             job_id: j.id.to_string(),
+            file_name: crate::views::file_name(&j.source_uri).to_owned(),
             state: j.state.to_string(),
             priority: j.priority,
             created_at_ms: j.created_at_ms,

@@ -10,7 +10,8 @@ use serde::{Deserialize, Serialize};
 use uniphys_queue::TenantId;
 use utoipa::ToSchema;
 
-use super::submit::{SubmitResponse, check_backlog, store_and_submit, submitted};
+use super::batches::batch_label;
+use super::submit::{Placement, SubmitResponse, check_backlog, store_and_submit, submitted};
 use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 use crate::extract::{ApiJson, Tenant};
@@ -30,6 +31,9 @@ pub struct ByUrlRequest {
     pub filename: Option<String>,
     /// Higher runs first (default 0).
     pub priority: Option<i32>,
+    /// Adds the job to this batch of the tenant (`GET /v1/batches/{batch}/stats`); in a
+    /// manifest, overrides the manifest's `batch`.
+    pub batch: Option<String>,
 }
 
 /// A batch manifest.
@@ -38,6 +42,9 @@ pub struct ByUrlRequest {
 pub struct BatchRequest {
     /// The assets; all are validated before any is submitted.
     pub items: Vec<ByUrlRequest>,
+    /// The batch every item joins (1 to 64 ASCII letters, digits, `.`, `_`, `-`); items without
+    /// one of their own join none when absent.
+    pub batch: Option<String>,
 }
 
 /// The result of one batch item.
@@ -65,6 +72,7 @@ struct Import {
     key: String,
     filename: String,
     priority: Option<i32>,
+    batch: Option<String>,
 }
 
 /// Submit an asset already in the service's object store.
@@ -90,7 +98,7 @@ pub(crate) async fn by_url(
     Tenant(tenant): Tenant,
     ApiJson(request): ApiJson<ByUrlRequest>,
 ) -> ApiResult<Response> {
-    let import = validate(&state, tenant, &request).await?;
+    let import = validate(&state, tenant, &request, None).await?;
     check_backlog(&state, tenant, 1).await?;
     let (created, answer) = run_import(&state, tenant, import).await?;
     Ok(submitted(created, answer))
@@ -125,6 +133,9 @@ pub(crate) async fn batch(
     if request.items.is_empty() {
         return Err(ApiError::Unprocessable("items must not be empty".into()));
     }
+    if let Some(batch) = &request.batch {
+        batch_label(batch)?;
+    }
     if request.items.len() > max {
         return Err(ApiError::Unprocessable(format!(
             "a batch holds at most {max} items, got {}",
@@ -134,7 +145,7 @@ pub(crate) async fn batch(
     let checks: Vec<_> = request
         .items
         .iter()
-        .map(|item| validate(&state, tenant, item))
+        .map(|item| validate(&state, tenant, item, request.batch.as_deref()))
         .collect();
     let checks: Vec<ApiResult<Import>> = futures::stream::iter(checks)
         .buffered(BATCH_CONCURRENCY)
@@ -193,8 +204,17 @@ pub(crate) async fn batch(
 }
 
 /// Checks the key (form, tenant prefix, existence, size) and the filename.
-async fn validate(state: &ApiState, tenant: TenantId, request: &ByUrlRequest) -> ApiResult<Import> {
+async fn validate(
+    state: &ApiState,
+    tenant: TenantId,
+    request: &ByUrlRequest,
+    manifest_batch: Option<&str>,
+) -> ApiResult<Import> {
     let key = object_key(state, tenant, &request.url)?;
+    let batch = request.batch.as_deref().or(manifest_batch);
+    if let Some(batch) = batch {
+        batch_label(batch)?;
+    }
     let raw_name = request
         .filename
         .as_deref()
@@ -210,6 +230,7 @@ async fn validate(state: &ApiState, tenant: TenantId, request: &ByUrlRequest) ->
         key,
         filename,
         priority: request.priority,
+        batch: batch.map(str::to_owned),
     })
 }
 
@@ -260,5 +281,9 @@ async fn run_import(
         |e| e,
     )
     .await?;
-    store_and_submit(state, tenant, spooled, &import.filename, import.priority).await
+    let placement = Placement {
+        priority: import.priority,
+        batch: import.batch.as_deref(),
+    };
+    store_and_submit(state, tenant, spooled, &import.filename, placement).await
 }

@@ -7,6 +7,7 @@ use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::{Extension, Json};
 use serde::Serialize;
+use uniphys_queue::StageStats;
 use utoipa::ToSchema;
 
 use crate::error::{ApiError, ApiResult, ErrorBody, UNAVAILABLE_RETRY_AFTER_SECS, error_chain};
@@ -40,6 +41,25 @@ pub struct StageStatsView {
     pub throughput_per_sec: f64,
     /// How long the oldest claimable run has waited, milliseconds.
     pub oldest_waiting_age_ms: u64,
+}
+
+impl From<&StageStats> for StageStatsView {
+    fn from(s: &StageStats) -> Self {
+        Self {
+            stage: s.stage_name.clone(),
+            paused: s.paused,
+            depth: s.ready + s.backing_off,
+            ready: s.ready,
+            backing_off: s.backing_off,
+            blocked: s.blocked,
+            running: s.running,
+            failed: s.dead,
+            succeeded_in_window: s.succeeded_in_window,
+            failed_in_window: s.failed_in_window,
+            throughput_per_sec: s.throughput_per_sec(),
+            oldest_waiting_age_ms: s.oldest_ready_age_ms,
+        }
+    }
 }
 
 /// Queue statistics per stage.
@@ -103,21 +123,8 @@ pub(crate) async fn stats(
         .store
         .stage_stats(window)
         .await?
-        .into_iter()
-        .map(|s| StageStatsView {
-            throughput_per_sec: s.throughput_per_sec(),
-            depth: s.ready + s.backing_off,
-            stage: s.stage_name,
-            paused: s.paused,
-            ready: s.ready,
-            backing_off: s.backing_off,
-            blocked: s.blocked,
-            running: s.running,
-            failed: s.dead,
-            succeeded_in_window: s.succeeded_in_window,
-            failed_in_window: s.failed_in_window,
-            oldest_waiting_age_ms: s.oldest_ready_age_ms,
-        })
+        .iter()
+        .map(StageStatsView::from)
         .collect();
     Ok(Json(StatsResponse {
         window_secs: window.as_secs(),

@@ -15,6 +15,7 @@ use utoipa::{IntoParams, ToSchema};
 use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiQuery, Tenant};
+use crate::routes::batches::batch_label;
 use crate::state::Shared;
 use crate::upload::{Spooled, sanitize_filename, spool_body, too_large};
 
@@ -27,6 +28,17 @@ pub(crate) struct UploadParams {
     filename: String,
     /// Higher runs first (default 0).
     priority: Option<i32>,
+    /// Adds the job to this batch of the tenant (1 to 64 ASCII letters, digits, `.`, `_`, `-`).
+    batch: Option<String>,
+}
+
+/// Where a submission goes in the queue.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Placement<'a> {
+    /// Higher runs first; `None`: the job spec's.
+    pub priority: Option<i32>,
+    /// The batch the job joins.
+    pub batch: Option<&'a str>,
 }
 
 /// The answer to a submission.
@@ -76,6 +88,9 @@ pub(crate) async fn upload(
     body: Body,
 ) -> ApiResult<Response> {
     let filename = sanitize_filename(&params.filename)?;
+    if let Some(batch) = &params.batch {
+        batch_label(batch)?;
+    }
     let max = state.config.max_upload_bytes;
     let declared = headers
         .get(header::CONTENT_LENGTH)
@@ -86,8 +101,11 @@ pub(crate) async fn upload(
     }
     check_backlog(&state, tenant, 1).await?;
     let spooled = spool_body(body, state.config.upload_tmp_dir.clone(), max).await?;
-    let (created, answer) =
-        store_and_submit(&state, tenant, spooled, &filename, params.priority).await?;
+    let placement = Placement {
+        priority: params.priority,
+        batch: params.batch.as_deref(),
+    };
+    let (created, answer) = store_and_submit(&state, tenant, spooled, &filename, placement).await?;
     Ok(submitted(created, answer))
 }
 
@@ -114,13 +132,13 @@ pub(crate) async fn store_and_submit(
     tenant: TenantId,
     spooled: Spooled,
     filename: &str,
-    priority: Option<i32>,
+    placement: Placement<'_>,
 ) -> ApiResult<(bool, SubmitResponse)> {
     let key = format!("sources/t{}/{}/{filename}", tenant.0, spooled.sha256_hex);
     state.artifacts.put_file(&key, &spooled.path).await?;
     drop(spooled.path);
     let mut spec = state.config.job_spec.clone();
-    if let Some(priority) = priority {
+    if let Some(priority) = placement.priority {
         spec.priority = priority;
     }
     spec.trace_parent = state.hooks.current_traceparent();
@@ -129,7 +147,10 @@ pub(crate) async fn store_and_submit(
         source_uri: key,
         size_bytes: spooled.size_bytes,
     };
-    let submission = state.store.submit(tenant, &asset, &spec).await?;
+    let submission = state
+        .store
+        .submit_in_batch(tenant, &asset, &spec, placement.batch)
+        .await?;
     if submission.job_created {
         let roots: BTreeSet<String> = spec
             .stages

@@ -5,6 +5,7 @@
 mod harness;
 
 mod bad_input;
+mod dashboard;
 mod listener;
 mod ops;
 mod status;
@@ -52,4 +53,9 @@ cases!(
     ops::health_readiness_and_metrics_answer,
     ops::statistics_count_each_stage,
     ops::an_unreachable_database_is_503_with_retry_after,
+    dashboard::the_overview_counts_the_tenants_jobs_and_keeps_a_history,
+    dashboard::the_overview_is_computed_once_per_refresh_for_every_viewer,
+    dashboard::work_lists_open_stages_and_dead_letters_with_their_errors,
+    dashboard::a_batch_counts_its_converted_assets,
+    dashboard::the_dashboard_is_served_without_a_key,
 );

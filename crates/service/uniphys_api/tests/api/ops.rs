@@ -21,12 +21,16 @@ const ROUTES: &[&str] = &[
     "GET /v1/assets/{asset_id}",
     "GET /v1/assets/{asset_id}/artifacts",
     "GET /v1/assets/{asset_id}/artifacts/{name}",
+    "GET /v1/batches",
     "POST /v1/batches",
+    "GET /v1/batches/{batch}/stats",
     "GET /v1/jobs/{job_id}",
     "POST /v1/jobs/{job_id}/cancel",
     "GET /v1/jobs/{job_id}/events",
     "POST /v1/jobs/{job_id}/retry",
+    "GET /v1/overview",
     "GET /v1/stats",
+    "GET /v1/work",
 ];
 
 pub async fn the_openapi_document_lists_every_route(backend: Backend) {
@@ -53,6 +57,7 @@ pub async fn the_openapi_document_lists_every_route(backend: Backend) {
         let uri = path
             .replace("{asset_id}", "asset_1")
             .replace("{job_id}", "job_1")
+            .replace("{batch}", "x")
             .replace("{name}", "ingest/x.json");
         let method: Method = method.parse().expect("method");
         let answer = app.send(method, &uri, Some(KEY), &[], Body::empty()).await;

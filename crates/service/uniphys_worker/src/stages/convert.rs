@@ -89,8 +89,37 @@ impl Stage for ConvertStage {
             "joints": output.record.joints.len(),
             "files": files,
             "stage_secs": timings,
+            "dataset": dataset_facts(&output.record),
         }))
     }
+}
+
+/// What a batch's statistics count of this asset (`GET /v1/batches/{batch}/stats`): its category,
+/// mass and size, its parts by material category and its joints by kind.
+fn dataset_facts(record: &uniphys_types::AssetRecord) -> Value {
+    let mut materials = serde_json::Map::new();
+    for part in &record.parts {
+        let name = part.properties.material.value.category.as_str();
+        add_one(&mut materials, name);
+    }
+    let mut joint_types = serde_json::Map::new();
+    for joint in &record.joints {
+        if let Ok(Value::String(kind)) = serde_json::to_value(joint.kind) {
+            add_one(&mut joint_types, &kind);
+        }
+    }
+    json!({
+        "category": record.object.category.value,
+        "mass_kg": record.object.mass_kg.value,
+        "size_m": record.object.dimensions_m.value,
+        "materials": materials,
+        "joint_types": joint_types,
+    })
+}
+
+fn add_one(counts: &mut serde_json::Map<String, Value>, key: &str) {
+    let n = counts.get(key).and_then(Value::as_u64).unwrap_or(0);
+    counts.insert(key.to_owned(), json!(n + 1));
 }
 
 /// A failure the same run may get past later ([`PipelineError::is_transient`]) is retried.

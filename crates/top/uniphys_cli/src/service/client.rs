@@ -34,6 +34,10 @@ pub struct SubmitArgs {
     /// Priority of the jobs (higher runs first).
     #[arg(long, default_value_t = 0)]
     pub priority: i32,
+    /// Add the jobs to this batch (its dataset statistics: `GET /v1/batches/{batch}/stats` and
+    /// the dashboard); for a manifest, sets its `batch` unless it has one.
+    #[arg(long)]
+    pub batch: Option<String>,
     /// Follow the jobs with progress bars until they finish.
     #[arg(long)]
     pub watch: bool,
@@ -113,29 +117,38 @@ impl Client {
         self.answer(response, &format!("GET {path}"))
     }
 
-    fn upload(&self, file: &Path, priority: i32) -> anyhow::Result<Value> {
+    fn upload(&self, file: &Path, priority: i32, batch: Option<&str>) -> anyhow::Result<Value> {
         let name = file
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .with_context(|| format!("{} has no file name", file.display()))?;
         let mut handle =
             std::fs::File::open(file).with_context(|| format!("cannot open {}", file.display()))?;
-        let response = self
+        let mut request = self
             .agent
             .post(format!("{}/v1/assets", self.base))
             .query("filename", &name)
-            .query("priority", priority.to_string())
+            .query("priority", priority.to_string());
+        if let Some(batch) = batch {
+            request = request.query("batch", batch);
+        }
+        let response = request
             .header("authorization", format!("Bearer {}", self.key))
             .header("content-type", "application/octet-stream")
             .send(ureq::SendBody::from_reader(&mut handle));
         self.answer(response, &format!("upload {}", file.display()))
     }
 
-    fn batch(&self, manifest: &Path) -> anyhow::Result<Value> {
+    fn batch(&self, manifest: &Path, batch: Option<&str>) -> anyhow::Result<Value> {
         let text = std::fs::read_to_string(manifest)
             .with_context(|| format!("cannot read {}", manifest.display()))?;
-        let body: Value = serde_json::from_str(&text)
+        let mut body: Value = serde_json::from_str(&text)
             .with_context(|| format!("{} is not JSON", manifest.display()))?;
+        if let (Some(batch), Some(object)) = (batch, body.as_object_mut()) {
+            object
+                .entry("batch")
+                .or_insert_with(|| Value::String(batch.to_owned()));
+        }
         let response = self
             .agent
             .post(format!("{}/v1/batches", self.base))
@@ -151,7 +164,7 @@ pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
     let mut submitted: Vec<(String, String)> = Vec::new();
     let is_manifest = |p: &PathBuf| p.extension().is_some_and(|e| e == "json");
     if args.inputs.len() == 1 && is_manifest(&args.inputs[0]) {
-        let answer = client.batch(&args.inputs[0])?;
+        let answer = client.batch(&args.inputs[0], args.batch.as_deref())?;
         for item in answer["items"].as_array().into_iter().flatten() {
             let index = item["index"].as_u64().unwrap_or_default();
             match item["submission"].as_object() {
@@ -171,7 +184,7 @@ pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
         }
     } else {
         for file in &args.inputs {
-            let answer = client.upload(file, args.priority)?;
+            let answer = client.upload(file, args.priority, args.batch.as_deref())?;
             let asset = answer["asset_id"].as_str().unwrap_or_default().to_owned();
             let created = if answer["created"] == Value::Bool(true) {
                 "new"

@@ -113,6 +113,10 @@ async fn serve_api(
         .with_context(|| format!("cannot listen on {}", args.listen))?;
     info!(address = %args.listen, "API listening");
     eprintln!("API on http://{}", args.listen);
+    eprintln!(
+        "dashboard on http://{}/ui/ (sign in with an API key)",
+        args.listen
+    );
     axum::serve(listener, uniphys_api::router(state))
         .with_graceful_shutdown(async move { shutdown.cancelled().await })
         .await
