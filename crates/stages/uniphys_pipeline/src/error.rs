@@ -37,6 +37,9 @@ pub enum PipelineError {
     /// The LVLM client could not be set up (configuration, cache directory).
     #[error(transparent)]
     Lvlm(#[from] uniphys_lvlm::LvlmError),
+    /// The preview could not be rendered or encoded.
+    #[error("preview render: {0}")]
+    Render(#[from] uniphys_render::RenderError),
     /// Decomposition into parts failed.
     #[error(transparent)]
     Decompose(#[from] uniphys_decompose::DecomposeError),

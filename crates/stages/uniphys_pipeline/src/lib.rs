@@ -9,6 +9,7 @@ mod error;
 mod learned;
 mod lvlm;
 mod parallel;
+mod preview;
 mod progress;
 mod run;
 mod verify;

@@ -28,6 +28,7 @@ use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
 use crate::parallel::par_map;
+use crate::preview::{PREVIEW_PATH, preview_png};
 use crate::verify::{VerifyOptions, verify};
 use crate::{PipelineError, PipelineResult, Progress, Stage};
 
@@ -324,9 +325,15 @@ pub fn run(
             report: &report,
             notes: &notes,
         })?;
+        let mut artifacts = out.artifacts;
+        artifacts.push(Artifact {
+            path: PREVIEW_PATH.to_owned(),
+            bytes: preview_png(&meshes)?,
+        });
+        artifacts.sort_by(|a, b| a.path.cmp(&b.path));
         let failures = out.report.failures().count();
-        let summary = format!("{} files, {} checks failed", out.artifacts.len(), failures);
-        Ok(((out.artifacts, out.report), summary))
+        let summary = format!("{} files, {} checks failed", artifacts.len(), failures);
+        Ok(((artifacts, out.report), summary))
     })?;
 
     Ok(RunOutput {
