@@ -1,16 +1,18 @@
 //! The dashboard's board: the latest queue statistics, recomputed at most once per refresh
-//! interval however many viewers poll (one query in flight; the others wait for it), a history of
-//! samples taken every history interval by a background task, and each tenant's job counts
-//! cached for the same refresh interval.
+//! interval however many viewers poll (one query in flight; the others wait for it, so while the
+//! database stalls they wait in turn), a history of samples taken every history interval by a
+//! background task, and each tenant's job counts cached for the same refresh interval.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 use std::sync::{Arc, Weak};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use tokio::sync::Mutex;
 use uniphys_queue::{JobState, QueueResult, QueueStore, StageStats, TenantId};
 
+use crate::routes::batches::BatchStatsResponse;
 use crate::state::ApiState;
+use crate::ttl_cache::TtlCache;
 
 /// One stage at one moment of the history.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,15 +39,25 @@ pub(crate) struct Snapshot {
     pub stages: Vec<StageStats>,
 }
 
-/// A tenant's jobs by state, and when they were counted.
-type TenantCounts = (Instant, Arc<Vec<(JobState, u64)>>);
-
 /// Shared by every request of one router.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct Board {
     latest: Mutex<Option<Arc<Snapshot>>>,
     history: std::sync::Mutex<VecDeque<Sample>>,
-    tenants: Mutex<HashMap<TenantId, TenantCounts>>,
+    tenants: TtlCache<TenantId, Vec<(JobState, u64)>>,
+    /// Batch statistics by tenant and label (`GET /v1/batches/{batch}/stats`).
+    pub(crate) batches: TtlCache<(TenantId, String), BatchStatsResponse>,
+}
+
+impl Default for Board {
+    fn default() -> Self {
+        Self {
+            latest: Mutex::default(),
+            history: std::sync::Mutex::default(),
+            tenants: TtlCache::new(10_000),
+            batches: TtlCache::new(1_000),
+        }
+    }
 }
 
 impl Board {
@@ -77,15 +89,11 @@ impl Board {
         tenant: TenantId,
         refresh: Duration,
     ) -> QueueResult<Arc<Vec<(JobState, u64)>>> {
-        let mut tenants = self.tenants.lock().await;
-        if let Some((taken, counts)) = tenants.get(&tenant)
-            && taken.elapsed() < refresh
-        {
-            return Ok(counts.clone());
-        }
-        let counts = Arc::new(store.tenant_job_states(tenant).await?.into_iter().collect());
-        tenants.insert(tenant, (Instant::now(), Arc::clone(&counts)));
-        Ok(counts)
+        self.tenants
+            .get_or_compute(tenant, refresh, async {
+                Ok(store.tenant_job_states(tenant).await?.into_iter().collect())
+            })
+            .await
     }
 
     /// The samples taken after `since_ms`, oldest first.

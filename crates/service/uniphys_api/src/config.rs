@@ -37,6 +37,8 @@ pub struct ApiConfig {
     pub history_interval: Duration,
     /// Samples kept (720 at 5 s: one hour).
     pub history_len: usize,
+    /// How old a batch's statistics may be before a request recomputes them.
+    pub batch_stats_refresh: Duration,
 }
 
 impl ApiConfig {
@@ -56,6 +58,7 @@ impl ApiConfig {
             board_refresh: Duration::from_secs(1),
             history_interval: Duration::from_secs(5),
             history_len: 720,
+            batch_stats_refresh: Duration::from_secs(5),
         }
     }
 

@@ -13,7 +13,7 @@ use serde_json::Value;
 use utoipa::ToSchema;
 
 /// Counts and distributions over a batch's converted assets.
-#[derive(Debug, Default, PartialEq, Serialize, ToSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, ToSchema)]
 pub struct DatasetStats {
     /// Assets converted.
     pub converted: u64,
@@ -34,7 +34,7 @@ pub struct DatasetStats {
 }
 
 /// A distribution: its extent and a histogram.
-#[derive(Debug, Default, PartialEq, Serialize, ToSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, ToSchema)]
 pub struct Distribution {
     /// Values counted.
     pub count: u64,

@@ -33,7 +33,8 @@
 //! - `error.rs`: [`ApiError`] and its mapping to statuses.
 //! - `extract.rs`: tenant, JSON, query and path extractors answering in the error format.
 //! - `ids.rs`, `upload.rs`, `views.rs`: ids in paths, spooling uploads, answer shapes.
-//! - `board.rs`: the dashboard's shared statistics, history sampler and per-tenant counts.
+//! - `board.rs`, `ttl_cache.rs`: the dashboard's shared statistics, history sampler, and the
+//!   per-tenant counts and batch statistics cached for a few seconds.
 //! - `dataset_stats.rs`: [`DatasetStats`] of a batch from its `convert` summaries.
 //! - `routes/`: the handlers, one file per resource.
 
@@ -47,6 +48,7 @@ mod ids;
 mod router;
 mod routes;
 mod state;
+mod ttl_cache;
 mod upload;
 mod views;
 

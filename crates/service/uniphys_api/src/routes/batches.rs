@@ -7,11 +7,13 @@ use axum::extract::State;
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
+use crate::ApiState;
 use crate::dataset_stats::{DatasetStats, dataset_stats};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Tenant};
 use crate::routes::overview::JobCounts;
 use crate::state::Shared;
+use uniphys_queue::TenantId;
 
 /// The stage whose summaries hold each asset's dataset facts.
 const CONVERT_STAGE: &str = "convert";
@@ -48,7 +50,7 @@ pub struct BatchList {
 }
 
 /// A batch's statistics.
-#[derive(Debug, Serialize, ToSchema)]
+#[derive(Clone, Debug, Serialize, ToSchema)]
 pub struct BatchStatsResponse {
     /// Its label.
     pub batch: String,
@@ -60,7 +62,7 @@ pub struct BatchStatsResponse {
 }
 
 /// A batch's jobs by state.
-#[derive(Debug, Serialize, ToSchema)]
+#[derive(Clone, Debug, Serialize, ToSchema)]
 pub struct BatchJobs {
     /// All of them.
     pub total: u64,
@@ -135,6 +137,21 @@ pub(crate) async fn stats(
     ApiPath(batch): ApiPath<String>,
 ) -> ApiResult<Json<BatchStatsResponse>> {
     batch_label(&batch)?;
+    let refresh = state.config.batch_stats_refresh;
+    let key = (tenant, batch.clone());
+    let stats = state
+        .board
+        .batches
+        .get_or_compute(key, refresh, compute_stats(&state, tenant, batch))
+        .await?;
+    Ok(Json(BatchStatsResponse::clone(&stats)))
+}
+
+async fn compute_stats(
+    state: &ApiState,
+    tenant: TenantId,
+    batch: String,
+) -> ApiResult<BatchStatsResponse> {
     let states = state.store.batch_job_states(tenant, &batch).await?;
     if states.is_empty() {
         return Err(ApiError::NotFound(format!("no batch {batch:?}")));
@@ -144,14 +161,14 @@ pub(crate) async fn stats(
         .store
         .batch_stage_summaries(tenant, &batch, CONVERT_STAGE)
         .await?;
-    Ok(Json(BatchStatsResponse {
+    Ok(BatchStatsResponse {
         batch,
         jobs: BatchJobs {
             total: by_state.total(),
             by_state,
         },
         dataset: dataset_stats(&summaries),
-    }))
+    })
 }
 
 /// Checks a batch label, answering 400 with the rule.

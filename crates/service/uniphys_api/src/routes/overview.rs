@@ -47,7 +47,7 @@ pub struct TenantOverview {
 }
 
 /// Jobs counted by state.
-#[derive(Debug, Default, Serialize, ToSchema)]
+#[derive(Clone, Debug, Default, Serialize, ToSchema)]
 pub struct JobCounts {
     /// Some stage still has work to do.
     pub running: u64,

@@ -45,7 +45,8 @@ pub struct WorkItemView {
     pub run_id: String,
     /// Stage name.
     pub stage: String,
-    /// `ready` (waiting for a worker or a retry backoff), `running` or `dead`.
+    /// `ready` (waiting for a worker or a retry backoff), `running`, `dead`, or `blocked` (a dead
+    /// job's stage behind its dead one).
     pub state: String,
     /// Attempts so far.
     pub attempt: u32,

@@ -183,7 +183,15 @@ pub async fn work_lists_open_stages_and_dead_letters_with_their_errors(backend: 
     assert_eq!(dead.status, StatusCode::OK);
     let dead = dead.json();
     let items = dead["items"].as_array().expect("items");
-    assert_eq!(items.len(), 1, "{items:?}");
+    assert_eq!(
+        items.len(),
+        2,
+        "the dead stage and the stage it blocks: {items:?}"
+    );
+    assert_eq!(
+        (items[1]["stage"].as_str(), items[1]["state"].as_str()),
+        (Some("export"), Some("blocked"))
+    );
     assert_eq!(items[0]["job_id"], first.as_str());
     assert_eq!(items[0]["file_name"], "first.glb");
     assert_eq!(items[0]["stage"], "ingest");

@@ -145,7 +145,8 @@ impl QueueStore {
             .await?;
         let mut summaries = Vec::with_capacity(rows.len());
         for row in &rows {
-            if let Some(summary) = row.opt_json::<Value>("summary")? {
+            // Postgres reads a JSON null where SQLite reads SQL NULL: neither is a summary.
+            if let Some(summary) = row.opt_json::<Value>("summary")?.filter(Value::is_object) {
                 summaries.push(summary);
             }
         }

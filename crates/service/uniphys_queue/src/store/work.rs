@@ -1,5 +1,6 @@
 //! The work a tenant is waiting on: the open or dead-lettered stage runs of its running or dead
-//! jobs, newest jobs first (the dashboard's "running" and "dead letters" tables), and its jobs
+//! jobs (with, for a dead job, the runs its dead stage blocks), newest jobs first (the
+//! dashboard's "running" and "dead letters" tables), and its jobs
 //! counted by state. Both read through the `(tenant_id, state, id)` index of `jobs`, so their
 //! cost follows the page and the tenant's job count, not the size of the whole queue.
 
@@ -24,7 +25,7 @@ pub struct WorkItem {
     pub run_id: StageRunId,
     /// Its stage.
     pub stage_name: String,
-    /// `ready`, `running` or `dead`.
+    /// `ready`, `running` or `dead`; `blocked` behind a dead stage of a dead job.
     pub state: StageState,
     /// Claims so far.
     pub attempt: u32,
@@ -48,7 +49,7 @@ static WORK: Sql = Sql::new(
            ORDER BY id DESC LIMIT $4) j
      JOIN assets a ON a.id = j.asset_id
      JOIN stage_runs r ON r.job_id = j.id
-     WHERE r.state IN ('ready', 'running', 'dead')
+     WHERE r.state IN ('ready', 'running', 'dead') OR (r.state = 'blocked' AND $2 = 'dead')
      ORDER BY j.id DESC, r.id",
 );
 
@@ -61,7 +62,8 @@ const MAX_JOBS: u32 = 200;
 
 impl QueueStore {
     /// The ready, running and dead stage runs of the tenant's newest `limit` jobs (capped at 200)
-    /// in `state` older than `before`, newest job first, then in stage order.
+    /// in `state` older than `before`, newest job first, then in stage order; for dead jobs also
+    /// their blocked runs (what the dead stage holds up).
     pub async fn list_work(
         &self,
         tenant: TenantId,
