@@ -115,6 +115,12 @@ test('asset page shows the joints, the 3D view and the downloads', { timeout: 12
     assert.ok(pixels.width > 0 && pixels.height > 0, `canvas size ${JSON.stringify(pixels)}`);
     assert.ok(pixels.distinct >= 8, `the canvas is not blank: ${pixels.distinct} distinct colours`);
 
+    const preview = page.locator('#preview img');
+    await preview.waitFor({ state: 'visible', timeout: 30_000 });
+    const previewSize = await preview.evaluate((img) => ({ width: img.naturalWidth, height: img.naturalHeight }));
+    assert.ok(previewSize.width > previewSize.height && previewSize.height > 0,
+      `the rendered preview (four views side by side) loaded: ${JSON.stringify(previewSize)}`);
+
     const urdf = page.locator('#downloads a[data-path$="/model.urdf"]');
     assert.ok(await urdf.count() >= 1, 'a download link for model.urdf');
     assert.match(await urdf.first().innerText(), /model\.urdf/);

@@ -27,6 +27,9 @@ fn main() {
         println!("cargo::rerun-if-changed={}", web.join(path).display());
     }
     println!("cargo::rerun-if-env-changed=UNIPHYS_DASHBOARD_NO_NPM");
+    // npm installed after a build without it changes PATH's lookup, not a file here: rebuild
+    // when PATH changes (cheap: the packages are installed once per lock file).
+    println!("cargo::rerun-if-env-changed=PATH");
 
     let ui = out_dir.join("ui");
     if ui.exists() {
@@ -39,7 +42,7 @@ fn main() {
         Ok(three) => Some(three),
         Err(why) => {
             println!(
-                "cargo::warning=the dashboard's 3D viewer is not bundled ({why}); install Node.js and npm, then rebuild"
+                "cargo::warning=the dashboard's 3D viewer is not bundled ({why}); install Node.js and npm, then `cargo clean -p uniphys_dashboard` and rebuild"
             );
             None
         }

@@ -54,9 +54,13 @@ function render() {
     const match = route.pattern.exec(path);
     if (!match) continue;
     const params = { query };
-    (route.names ?? []).forEach((name, i) => {
-      params[name] = decodeURIComponent(match[i + 1]);
-    });
+    try {
+      (route.names ?? []).forEach((name, i) => {
+        params[name] = decodeURIComponent(match[i + 1]);
+      });
+    } catch {
+      break; // A malformed escape (`%E0`): no page has that name.
+    }
     markNav(route.nav);
     unmount = route.page.mount(app, params);
     return;

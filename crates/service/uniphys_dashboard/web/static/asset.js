@@ -1,13 +1,13 @@
 /**
  * The asset page (`#/assets/<asset id>`): the latest job's stages (refreshed every 2 s while the
- * job runs), and once the convert stage wrote its files: the 3D viewer, joints, parts,
- * verification report and downloads.
+ * job runs), and once the convert stage wrote its files: its rendered preview, the 3D viewer,
+ * joints, parts, verification report and downloads.
  *
  * The viewer (and with it three.js) is imported dynamically: when it cannot load, `#viewer`
  * shows why (and gets `data-error`) while the rest of the page works.
  */
 
-import { getJson, getText } from './api.js';
+import { getBlob, getJson, getText } from './api.js';
 import { h, replaceChildren } from './dom.js';
 import { renderHeader, renderSummary } from './asset-facts.js';
 import { Freshness } from './freshness.js';
@@ -27,6 +27,7 @@ export function mount(root, { id }) {
   let viewer = null;
   let artifactsKey = null;
   let modelStarted = false;
+  let previewUrl = null;
 
   const header = h('header', { class: 'asset-header' }, h('h1', { text: `Asset ${id}` }));
   const stages = stageRunsTable();
@@ -36,6 +37,7 @@ export function mount(root, { id }) {
   const animate = checkbox('animate', 'Animate joints', (on) => viewer?.setAnimating(on));
   const axes = checkbox('show-axes', 'Show joint axes', (on) => viewer?.setAxesVisible(on));
   const model = h('div', { class: 'model' });
+  const preview = h('figure', { id: 'preview', class: 'preview', hidden: true });
   const report = h('section', { id: 'report', class: 'card' }, h('h2', { text: 'Verification' }),
     h('p', { class: 'muted', text: 'No report yet.' }));
   const downloads = h('ul', { id: 'downloads', class: 'downloads' });
@@ -64,6 +66,7 @@ export function mount(root, { id }) {
       const list = await getJson(`${base}/artifacts`, { signal });
       artifactsKey = key;
       renderDownloads(downloads, list.items);
+      showPreview(list.items);
       if (!modelStarted && list.items.some((a) => a.name === 'record.json')) {
         modelStarted = true;
         loadModel(list.items).catch((e) => {
@@ -81,6 +84,7 @@ export function mount(root, { id }) {
     h('div', { class: 'scroll' }, stages),
     summary,
     h('h2', { text: 'Model' }),
+    preview,
     h('div', { class: 'viewer-block' }, viewerBox,
       h('div', { class: 'viewer-controls' }, animate.label, axes.label,
         h('span', { class: 'muted', text: 'Drag to orbit, scroll to zoom, right-drag to pan.' }))),
@@ -153,6 +157,21 @@ export function mount(root, { id }) {
     }
   }
 
+  /** Shows `renders/preview.png` (four views, parts in the viewer's colours) when there is one. */
+  function showPreview(items) {
+    const item = items.find((a) => a.name === 'renders/preview.png');
+    if (!item || previewUrl) return;
+    getBlob(item.href, { signal })
+      .then((blob) => {
+        previewUrl = URL.createObjectURL(blob);
+        replaceChildren(preview,
+          h('img', { src: previewUrl, alt: 'The asset at rest from four sides, each part in its colour' }),
+          h('figcaption', { class: 'muted', text: 'Rendered by the convert stage (renders/preview.png).' }));
+        preview.hidden = false;
+      })
+      .catch((e) => showError(preview, 'Cannot show the preview', e));
+  }
+
   function failViewer(message) {
     viewerBox.dataset.error = message;
     replaceChildren(viewerBox, h('p', { class: 'viewer-message error', role: 'alert', text: message }));
@@ -164,6 +183,7 @@ export function mount(root, { id }) {
     freshness.dispose();
     viewer?.dispose();
     viewer = null;
+    if (previewUrl) URL.revokeObjectURL(previewUrl);
   };
 }
 

@@ -14,7 +14,7 @@ const STATES = ['running', 'succeeded', 'dead', 'cancelled'];
 export function mount(root, { query: params }) {
   const state = params.get('state') || null;
   const controller = new AbortController();
-  const list = table({ id: 'assets-table', class: 'data' }, state ? `Assets whose latest job is ${state}` : 'Assets',
+  const list = table({ id: 'assets-table', class: 'data' }, state ? `Jobs in state ${state}, newest first` : 'Jobs, newest first',
     ['Asset', 'File', 'Job', 'State', 'Priority', 'Submitted', 'Finished']);
   const message = h('p', { class: 'banner error', role: 'alert', hidden: true });
   const pager = new Pager(() => load().then(() => window.scrollTo({ top: 0 })));
@@ -37,8 +37,8 @@ export function mount(root, { query: params }) {
         { signal: controller.signal });
       message.hidden = true;
       syncRows(list.tBodies[0], page.items, {
-        keyOf: (a) => a.asset_id,
-        empty: state ? `No asset whose latest job is ${state}.` : 'No assets yet.',
+        keyOf: (a) => a.job_id,
+        empty: state ? `No job is ${state}.` : 'No assets yet.',
         rowProps: (a) => ({ dataset: { asset: a.asset_id } }),
         cells: (a) => [
           h('td', {}, h('a', { href: `#/assets/${encodeURIComponent(a.asset_id)}`, text: a.asset_id })),

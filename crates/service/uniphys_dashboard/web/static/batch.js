@@ -51,7 +51,7 @@ function render(stats, label) {
       figure('chart-mass', `Mass per asset ${summary(stats.mass_kg, mass)}`,
         histogram(stats.mass_kg ?? {}, { label: 'Histogram of asset mass', formatEdge: mass, log: true })),
       figure('chart-size', `Largest dimension per asset ${summary(stats.size_m, metres)}`,
-        histogram(stats.size_m ?? {}, { label: 'Histogram of the largest dimension', formatEdge: metres })),
+        histogram(stats.size_m ?? {}, { label: 'Histogram of the largest dimension', formatEdge: metres, log: true })),
       figure('chart-parts', `Parts per asset ${summary(stats.parts_per_asset, count)}`,
         histogram(stats.parts_per_asset ?? {}, { label: 'Histogram of parts per asset', formatEdge: (x) => num(x, 3) }))),
   ];

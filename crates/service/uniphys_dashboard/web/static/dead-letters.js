@@ -86,8 +86,9 @@ export class DeadLetters {
 }
 
 /**
- * One entry per job, in the order listed: `stages` that are dead (the dead-lettered ones),
- * `blocked` stages behind them, and the dead stage's error and attempts.
+ * One entry per job, in the order listed: `stages` that are dead (the dead-lettered ones), the
+ * stages they hold up (`blocked`: the API lists a dead job's blocked runs too), and the dead
+ * stage's error and attempts.
  */
 function groupByJob(items) {
   const jobs = new Map();

@@ -71,8 +71,8 @@ export class Viewer {
     this.resizer.observe(container);
     // No frames while scrolled out of view either.
     this.onScreen = true;
-    this.visibility = new IntersectionObserver(([entry]) => {
-      this.onScreen = entry.isIntersecting;
+    this.visibility = new IntersectionObserver((entries) => {
+      this.onScreen = entries[entries.length - 1].isIntersecting;
       this.lastFrameMs = null;
       this.requestFrame();
     });
@@ -223,16 +223,16 @@ function addParts(scene, record, objTexts) {
 }
 
 /**
- * A camera with Z up, looking at the box from the front (−y) right and above. The box's bounding
- * sphere is wider than the box seen from any side, so 0.8 of the distance at which the sphere
- * would just fit still shows all of it.
+ * A camera with Z up, looking at the box from the front (−y) right and above, at the distance
+ * where the box's bounding sphere just fits the vertical field of view (so the whole box shows
+ * from any side in a view at least as wide as it is high).
  */
 function frameCamera(box) {
   const centre = box.getCenter(new THREE.Vector3());
   const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 0.01);
   const camera = new THREE.PerspectiveCamera(FIELD_OF_VIEW_DEG, 1, radius / 100, radius * 100);
   camera.up.set(0, 0, 1);
-  const distance = (0.8 * radius) / Math.sin(THREE.MathUtils.degToRad(FIELD_OF_VIEW_DEG) / 2);
+  const distance = radius / Math.sin(THREE.MathUtils.degToRad(FIELD_OF_VIEW_DEG) / 2);
   const direction = new THREE.Vector3(0.9, -1.6, 0.9).normalize();
   camera.position.copy(centre).addScaledVector(direction, distance);
   camera.lookAt(centre);
