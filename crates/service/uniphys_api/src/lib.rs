@@ -32,7 +32,8 @@
 //! - `router.rs`: [`router`], [`openapi`], tracing and request metrics.
 //! - `error.rs`: [`ApiError`] and its mapping to statuses.
 //! - `extract.rs`: tenant, JSON, query and path extractors answering in the error format.
-//! - `ids.rs`, `upload.rs`, `views.rs`: ids in paths, spooling uploads, answer shapes.
+//! - `ids.rs`, `page.rs`, `upload.rs`, `views.rs`: ids in paths, page limits and cursors,
+//!   spooling uploads, answer shapes.
 //! - `board.rs`, `ttl_cache.rs`: the dashboard's shared statistics, history sampler, and the
 //!   per-tenant counts and batch statistics cached for a few seconds.
 //! - `dataset_stats.rs`: [`DatasetStats`] of a batch from its `convert` summaries.
@@ -45,6 +46,7 @@ mod error;
 mod extract;
 mod hooks;
 mod ids;
+mod page;
 mod router;
 mod routes;
 mod state;

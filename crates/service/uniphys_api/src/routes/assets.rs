@@ -10,6 +10,7 @@ use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Tenant};
 use crate::ids;
+use crate::page::{next_cursor, page_limit};
 use crate::state::Shared;
 use crate::views::{AssetView, JobView};
 
@@ -89,13 +90,7 @@ pub(crate) async fn list(
     Tenant(tenant): Tenant,
     ApiQuery(params): ApiQuery<ListParams>,
 ) -> ApiResult<Json<AssetList>> {
-    let limit = params.limit.unwrap_or(DEFAULT_PAGE);
-    if !(1..=MAX_PAGE).contains(&limit) {
-        return Err(ApiError::bad_request(
-            "invalid_query",
-            format!("limit must be between 1 and {MAX_PAGE}, got {limit}"),
-        ));
-    }
+    let limit = page_limit(params.limit, DEFAULT_PAGE, MAX_PAGE)?;
     let filter = JobFilter {
         state: params.state.as_deref().map(job_state).transpose()?,
         asset: params
@@ -111,9 +106,8 @@ pub(crate) async fn list(
         limit,
     };
     let jobs = state.store.list_jobs(tenant, &filter).await?;
-    let next = (jobs.len() == limit as usize)
-        .then(|| jobs.last().map(|j| j.id.to_string()))
-        .flatten();
+    let ids: Vec<_> = jobs.iter().map(|j| j.id).collect();
+    let next = next_cursor(&ids, limit);
     let items = jobs
         .iter()
         .map(|j| JobListItem {

@@ -11,6 +11,7 @@ use crate::ApiState;
 use crate::dataset_stats::{DatasetStats, dataset_stats};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Tenant};
+use crate::page::{next_cursor, page_limit};
 use crate::routes::overview::JobCounts;
 use crate::state::Shared;
 use uniphys_queue::TenantId;
@@ -90,20 +91,13 @@ pub(crate) async fn list(
     Tenant(tenant): Tenant,
     ApiQuery(params): ApiQuery<BatchListParams>,
 ) -> ApiResult<Json<BatchList>> {
-    let limit = params.limit.unwrap_or(100);
-    if !(1..=1000).contains(&limit) {
-        return Err(ApiError::bad_request(
-            "invalid_query",
-            format!("limit must be between 1 and 1000, got {limit}"),
-        ));
-    }
+    let limit = page_limit(params.limit, 100, 1000)?;
     let batches = state
         .store
         .list_batches(tenant, params.before.as_deref(), limit)
         .await?;
-    let next = (batches.len() == limit as usize)
-        .then(|| batches.last().map(|b| b.label.clone()))
-        .flatten();
+    let labels: Vec<&str> = batches.iter().map(|b| b.label.as_str()).collect();
+    let next = next_cursor(&labels, limit);
     let items = batches
         .into_iter()
         .map(|b| BatchView {

@@ -13,6 +13,7 @@ use utoipa::{IntoParams, ToSchema};
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiQuery, Tenant};
 use crate::ids;
+use crate::page::{next_cursor, page_limit};
 use crate::state::Shared;
 use crate::views::{ErrorView, file_name};
 
@@ -105,13 +106,7 @@ pub(crate) async fn list(
             ));
         }
     };
-    let limit = params.limit.unwrap_or(50);
-    if !(1..=MAX_JOBS).contains(&limit) {
-        return Err(ApiError::bad_request(
-            "invalid_query",
-            format!("limit must be between 1 and {MAX_JOBS}, got {limit}"),
-        ));
-    }
+    let limit = page_limit(params.limit, 50, MAX_JOBS)?;
     let before = params
         .before
         .as_deref()
@@ -123,9 +118,7 @@ pub(crate) async fn list(
         .await?;
     let mut jobs: Vec<JobId> = work.iter().map(|w| w.job_id).collect();
     jobs.dedup();
-    let next = (jobs.len() == limit as usize)
-        .then(|| jobs.last().map(ToString::to_string))
-        .flatten();
+    let next = next_cursor(&jobs, limit);
     let mut progress: BTreeMap<JobId, BTreeMap<String, Value>> = BTreeMap::new();
     for item in work.iter().filter(|w| w.state == StageState::Running) {
         if let std::collections::btree_map::Entry::Vacant(slot) = progress.entry(item.job_id) {
