@@ -1,7 +1,8 @@
 //! The dashboard's board: the latest queue statistics, recomputed at most once per refresh
 //! interval however many viewers poll (one query in flight; the others wait for it, so while the
 //! database stalls they wait in turn), a history of samples taken every history interval by a
-//! background task, and each tenant's job counts cached for the same refresh interval.
+//! background task, each tenant's job counts cached for the same refresh interval, and batch
+//! statistics cached for `batch_stats_refresh`.
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Weak};
