@@ -1,10 +1,10 @@
 //! The dashboard's board: the latest queue statistics, recomputed at most once per refresh
-//! interval however many viewers poll (one query in flight; the others wait for it, so while the
-//! database stalls they wait in turn), a history of samples taken every history interval by a
-//! background task, each tenant's job counts cached for the same refresh interval, and batch
+//! interval however many viewers poll (one query in flight; meanwhile the others get the previous
+//! statistics), a history of samples taken every history interval by a background task, each tenant's job counts cached for the same refresh interval, and batch
 //! statistics cached for `batch_stats_refresh`.
 
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Weak};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
@@ -44,6 +44,8 @@ pub(crate) struct Snapshot {
 #[derive(Debug)]
 pub(crate) struct Board {
     latest: Mutex<Option<Arc<Snapshot>>>,
+    /// A caller is recomputing `latest`.
+    refreshing: AtomicBool,
     history: std::sync::Mutex<VecDeque<Sample>>,
     tenants: TtlCache<TenantId, Vec<(JobState, u64)>>,
     /// Batch statistics by tenant and label (`GET /v1/batches/{batch}/stats`).
@@ -54,6 +56,7 @@ impl Default for Board {
     fn default() -> Self {
         Self {
             latest: Mutex::default(),
+            refreshing: AtomicBool::new(false),
             history: std::sync::Mutex::default(),
             tenants: TtlCache::new(10_000),
             batches: TtlCache::new(1_000),
@@ -62,24 +65,28 @@ impl Default for Board {
 }
 
 impl Board {
-    /// The statistics, recomputed when older than `refresh`.
+    /// The statistics, recomputed when older than `refresh`; while one caller recomputes them,
+    /// the others get the previous ones.
     pub(crate) async fn snapshot(
         &self,
         store: &QueueStore,
         window: Duration,
         refresh: Duration,
     ) -> QueueResult<Arc<Snapshot>> {
-        let mut latest = self.latest.lock().await;
-        if let Some(snapshot) = latest.as_ref().filter(|s| s.taken.elapsed() < refresh) {
-            return Ok(snapshot.clone());
+        let current = self.latest.lock().await.clone();
+        if let Some(snapshot) = current
+            && (snapshot.taken.elapsed() < refresh || self.refreshing.swap(true, Ordering::AcqRel))
+        {
+            return Ok(snapshot);
         }
-        let stages = store.stage_stats(window).await?;
+        let computed = store.stage_stats(window).await;
+        self.refreshing.store(false, Ordering::Release);
         let snapshot = Arc::new(Snapshot {
             taken: Instant::now(),
             at_ms: now_ms(),
-            stages,
+            stages: computed?,
         });
-        *latest = Some(snapshot.clone());
+        *self.latest.lock().await = Some(snapshot.clone());
         Ok(snapshot)
     }
 
