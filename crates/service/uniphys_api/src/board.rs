@@ -4,11 +4,9 @@
 //! statistics cached for `batch_stats_refresh`.
 
 use std::collections::VecDeque;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Weak};
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-use tokio::sync::Mutex;
 use uniphys_queue::{JobState, QueueResult, QueueStore, StageStats, TenantId};
 
 use crate::routes::batches::BatchStatsResponse;
@@ -35,7 +33,6 @@ pub(crate) struct Sample {
 /// The statistics as last computed.
 #[derive(Debug)]
 pub(crate) struct Snapshot {
-    pub taken: Instant,
     pub at_ms: i64,
     pub stages: Vec<StageStats>,
 }
@@ -43,9 +40,8 @@ pub(crate) struct Snapshot {
 /// Shared by every request of one router.
 #[derive(Debug)]
 pub(crate) struct Board {
-    latest: Mutex<Option<Arc<Snapshot>>>,
-    /// A caller is recomputing `latest`.
-    refreshing: AtomicBool,
+    /// The latest statistics (one entry).
+    latest: TtlCache<(), Snapshot>,
     history: std::sync::Mutex<VecDeque<Sample>>,
     tenants: TtlCache<TenantId, Vec<(JobState, u64)>>,
     /// Batch statistics by tenant and label (`GET /v1/batches/{batch}/stats`).
@@ -55,8 +51,7 @@ pub(crate) struct Board {
 impl Default for Board {
     fn default() -> Self {
         Self {
-            latest: Mutex::default(),
-            refreshing: AtomicBool::new(false),
+            latest: TtlCache::new(1),
             history: std::sync::Mutex::default(),
             tenants: TtlCache::new(10_000),
             batches: TtlCache::new(1_000),
@@ -73,21 +68,14 @@ impl Board {
         window: Duration,
         refresh: Duration,
     ) -> QueueResult<Arc<Snapshot>> {
-        let current = self.latest.lock().await.clone();
-        if let Some(snapshot) = current
-            && (snapshot.taken.elapsed() < refresh || self.refreshing.swap(true, Ordering::AcqRel))
-        {
-            return Ok(snapshot);
-        }
-        let computed = store.stage_stats(window).await;
-        self.refreshing.store(false, Ordering::Release);
-        let snapshot = Arc::new(Snapshot {
-            taken: Instant::now(),
-            at_ms: now_ms(),
-            stages: computed?,
-        });
-        *self.latest.lock().await = Some(snapshot.clone());
-        Ok(snapshot)
+        self.latest
+            .get_or_compute((), refresh, async {
+                Ok(Snapshot {
+                    stages: store.stage_stats(window).await?,
+                    at_ms: now_ms(),
+                })
+            })
+            .await
     }
 
     /// The tenant's jobs by state, recomputed when older than `refresh`.
@@ -182,7 +170,6 @@ mod tests {
 
     fn snapshot(at_ms: i64, ready: u64) -> Snapshot {
         Snapshot {
-            taken: Instant::now(),
             at_ms,
             stages: vec![StageStats {
                 stage_name: "ingest".into(),
