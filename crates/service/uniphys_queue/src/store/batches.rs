@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde_json::Value;
 
 use super::QueueStore;
+use super::work::job_state_counts;
 use crate::db::{Session, Sql, args};
 use crate::{JobId, JobState, QueueError, QueueResult, TenantId};
 
@@ -121,14 +122,11 @@ impl QueueStore {
         label: &str,
     ) -> QueueResult<BTreeMap<JobState, u64>> {
         let mut session = self.db.read().await?;
-        let mut counts = BTreeMap::new();
-        for row in session
-            .fetch_all(&JOB_STATES, args![tenant.0, label])
-            .await?
-        {
-            counts.insert(JobState::parse(&row.text("state")?)?, row.u64("n")?);
-        }
-        Ok(counts)
+        job_state_counts(
+            &session
+                .fetch_all(&JOB_STATES, args![tenant.0, label])
+                .await?,
+        )
     }
 
     /// The output-manifest summaries of `stage`'s succeeded runs over the jobs of the tenant's

@@ -92,12 +92,15 @@ impl QueueStore {
         tenant: TenantId,
     ) -> QueueResult<BTreeMap<JobState, u64>> {
         let mut session = self.db.read().await?;
-        let mut counts = BTreeMap::new();
-        for row in session.fetch_all(&JOB_STATES, args![tenant.0]).await? {
-            counts.insert(JobState::parse(&row.text("state")?)?, row.u64("n")?);
-        }
-        Ok(counts)
+        job_state_counts(&session.fetch_all(&JOB_STATES, args![tenant.0]).await?)
     }
+}
+
+/// Rows of `state, n` (jobs counted by state) as a map.
+pub(super) fn job_state_counts(rows: &[DbRow]) -> QueueResult<BTreeMap<JobState, u64>> {
+    rows.iter()
+        .map(|row| Ok((JobState::parse(&row.text("state")?)?, row.u64("n")?)))
+        .collect()
 }
 
 fn work_item(row: &DbRow) -> QueueResult<WorkItem> {
