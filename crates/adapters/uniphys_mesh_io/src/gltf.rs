@@ -283,7 +283,19 @@ impl Reader<'_> {
         }
         let pbr = material.pbr_metallic_roughness();
         let texture = match pbr.base_color_texture() {
-            Some(info) => Some(self.texture(&info.texture().source(), session)?),
+            Some(info) => match self.texture(&info.texture().source(), session) {
+                Ok(index) => Some(index),
+                // A missing image file costs only the look: the base colour stands in.
+                Err(IngestError::MissingReference { reference, .. }) => {
+                    session.warnings.push(format!(
+                        "{} references the image {reference:?}, which does not exist; material {:?} uses its base colour",
+                        self.path.display(),
+                        material.name().unwrap_or_default()
+                    ));
+                    None
+                }
+                Err(e) => return Err(e),
+            },
             None => None,
         };
         self.asset.materials.push(SurfaceMaterial {

@@ -1,5 +1,6 @@
 //! Wavefront OBJ with MTL materials: every object/group is a part, MTL `Kd` (and `d`) give the
-//! base colour, `map_Kd` the base colour texture. A missing MTL or texture is an error.
+//! base colour, `map_Kd` the base colour texture. A missing MTL or texture image is a warning
+//! (the geometry loads; the base colour stands in).
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -174,7 +175,24 @@ fn load_materials(
             (Some(reference), Some(lib)) => {
                 let file = texture_file_name(reference);
                 let dir = lib.path.parent().unwrap_or(Path::new("/"));
-                let tex_path = resolve_reference(&lib.path, dir, &session.root, file)?;
+                let tex_path = match resolve_reference(&lib.path, dir, &session.root, file) {
+                    Ok(p) => p,
+                    // A missing image costs only the look: the base colour stands in.
+                    Err(IngestError::MissingReference { reference, .. }) => {
+                        session.warnings.push(format!(
+                            "{} references the texture {reference:?}, which does not exist; material {:?} uses its base colour",
+                            lib.path.display(),
+                            material.name
+                        ));
+                        asset.materials.push(SurfaceMaterial {
+                            name: material.name.clone(),
+                            base_color_rgba: [r, g, b, alpha],
+                            base_color_texture: None,
+                        });
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
                 let index = match textures.get(&tex_path) {
                     Some(&i) => i,
                     None => {
