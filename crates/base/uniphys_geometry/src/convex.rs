@@ -49,7 +49,8 @@ impl Hull {
 /// convex hull exceeds its solid volume ([`solid_mass_properties`]) by at most
 /// `concavity_tolerance` is replaced by that hull; any other is decomposed by parry3d's V-HACD
 /// (hull of the mesh clipped to each part, or of the part's voxels where that fails; the
-/// component's single hull if V-HACD fails altogether). Flat components and hulls below 1e-6
+/// component's single hull if V-HACD fails altogether). A flat component (a zero-thickness
+/// panel) gets a slab 1 % of its size thick; hulls below 1e-6
 /// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
 /// the smallest is merged into the hull whose bounds are nearest its centre (the hull of both
 /// point sets), so no region loses its collision shape. Deterministic.
@@ -73,10 +74,16 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
         if component.area() <= 0.0 {
             continue;
         }
-        let Ok(hull) = convex_hull(&component.positions) else {
-            continue; // flat: no volume to collide with
+        let extent = component.bounds().max_extent();
+        let hull = convex_hull(&component.positions)
+            .ok()
+            .map(Hull::new)
+            .filter(|h| h.volume_m3.abs() > 1e-9 * extent.powi(3));
+        let Some(hull) = hull else {
+            // Flat (a zero-thickness panel): a thin slab; a line or a point: nothing to collide.
+            hulls.extend(slab_hull(&component).map(Hull::new));
+            continue;
         };
-        let hull = Hull::new(hull);
         let solid_volume =
             solid_mass_properties(&component, resolution).map_or(0.0, |(m, _)| m.volume_m3);
         if hull.volume_m3 <= solid_volume * (1.0 + tolerance) {
@@ -100,6 +107,26 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
     }
     merge_down(&mut hulls, params.max_hulls);
     Ok(hulls.into_iter().map(|h| h.mesh).collect())
+}
+
+/// Thickness of the collision slab of a flat component, as a fraction of its largest extent.
+const SLAB_THICKNESS_FRACTION: f64 = 0.01;
+
+/// The hull of a flat component (a zero-thickness panel: a door or lid modelled as one quad)
+/// thickened along its plane's normal by 1 % of its largest extent, centred on the panel, so
+/// the panel still collides; `None` for a component without a plane (a line).
+fn slab_hull(component: &TriMesh) -> Option<TriMesh> {
+    let plane = crate::fit_plane(&component.positions).ok()?;
+    let half = 0.5 * SLAB_THICKNESS_FRACTION * component.bounds().max_extent();
+    if !(half > 0.0 && half.is_finite()) {
+        return None;
+    }
+    let points: Vec<DVec3> = component
+        .positions
+        .iter()
+        .flat_map(|p| [*p + plane.normal * half, *p - plane.normal * half])
+        .collect();
+    convex_hull(&points).ok()
 }
 
 /// V-HACD on one component, in `f32` relative to its centroid and in the frame of its tight box
@@ -280,14 +307,30 @@ mod tests {
     }
 
     #[test]
-    fn flat_meshes_and_bad_parameters_are_errors() {
+    fn a_flat_panel_gets_a_thin_slab_and_bad_parameters_are_errors() {
+        // A zero-thickness lid: one double-sided quad.
         let square = TriMesh::new(
             vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
-            vec![[0, 1, 2], [0, 2, 3]],
+            vec![[0, 1, 2], [0, 2, 3], [0, 2, 1], [0, 3, 2]],
+        )
+        .unwrap();
+        let slab = convex_decomposition(&square, &ConvexParams::default()).unwrap();
+        assert_eq!(slab.len(), 1);
+        let b = slab[0].bounds();
+        // 1 x 1 in the panel's plane, 1 % of its extent thick, centred on it.
+        assert!(
+            (b.extents() - DVec3::new(1.0, 1.0, 0.01)).length() < 1e-9,
+            "{b:?}"
+        );
+        assert!((b.center().z).abs() < 1e-12);
+        assert!((volumes(&slab)[0] - 0.01).abs() < 1e-9);
+        let line = TriMesh::new(
+            vec![DVec3::ZERO, DVec3::X, DVec3::new(2.0, 0.0, 0.0)],
+            vec![[0, 1, 2]],
         )
         .unwrap();
         assert_eq!(
-            convex_decomposition(&square, &ConvexParams::default()),
+            convex_decomposition(&line, &ConvexParams::default()),
             Err(GeometryError::Degenerate)
         );
         let zero = ConvexParams {
