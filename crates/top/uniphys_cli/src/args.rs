@@ -171,9 +171,13 @@ pub enum UpArg {
 pub struct RunArgs {
     /// The asset: .glb, .gltf, .obj, .ply, .stl, .urdf, or a folder with one URDF (PartNet-Mobility style).
     pub asset: PathBuf,
-    /// Output directory (created if missing).
+    /// Output directory (created if missing). A folder holding an earlier result of the same
+    /// asset is cleared first; one holding anything else is refused unless `--force`.
     #[arg(long)]
     pub out: PathBuf,
+    /// Clear the output folder first, whatever it holds.
+    #[arg(long)]
+    pub force: bool,
     /// Up axis of the input coordinates.
     #[arg(long, value_enum, default_value_t = UpArg::Auto)]
     pub up: UpArg,

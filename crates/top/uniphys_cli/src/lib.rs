@@ -13,6 +13,7 @@ mod args;
 mod eval_cmd;
 mod lvlm_args;
 mod measure_cmd;
+mod out_dir;
 mod points_cmd;
 mod progress;
 mod report_notes;

@@ -8,10 +8,16 @@ use uniphys_storage::ArtifactStore;
 use uniphys_uniphysgen::ClientConfig;
 
 use crate::args::{RunArgs, metres_per_unit};
+use crate::out_dir::{check_out_dir, clear_out_dir};
 use crate::progress::StderrProgress;
 use crate::report_notes::with_notes;
 
 pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
+    check_out_dir(
+        &args.out,
+        &uniphys_pipeline::asset_name(&args.asset),
+        args.force,
+    )?;
     let mut options = RunOptions {
         ingest: IngestOptions {
             up_axis: args.up.up_axis(),
@@ -45,6 +51,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         report.bytes = with_notes(&report.bytes, &ingest_notes)?;
     }
 
+    clear_out_dir(&args.out)?;
     let store = ArtifactStore::local(&args.out)?;
     let runtime = tokio::runtime::Builder::new_current_thread()
         .build()
