@@ -54,11 +54,18 @@ pub fn verify_articulation(
         .filter(|&i| joints[i].kind.is_movable())
         .collect();
     // Joints are judged independently against the same scene, on all cores.
-    let judged = parallel_map(&movable, |&i| judge(scene, joints, i, params, correct));
+    let judged = parallel_map(&movable, |&i| {
+        verify_joint(scene, joints, i, params, correct)
+    });
     for (&i, result) in movable.iter().zip(judged) {
-        let (fix, outcome, message, metrics) = result?;
+        let JointVerdict {
+            correction,
+            outcome,
+            message,
+            metrics,
+        } = result?;
         let subject = format!("joint {}", joints[i].name);
-        if let Some((joint, change)) = fix {
+        if let Some((joint, change)) = correction {
             out.corrections
                 .push(format!("joint {:?}: {change}", joints[i].name));
             out.joints[i] = joint;
@@ -79,41 +86,64 @@ fn declared(joint: &Joint) -> bool {
     matches!(joint.provenance, uniphys_types::Provenance::Input { .. })
 }
 
-/// What happened to one joint: the correction (joint and change) if any, the outcome, the
-/// message and the metrics of the sweep that decided.
-type Judgement = (Option<(Joint, String)>, CheckOutcome, String, SweepMetrics);
+/// The verdict on one joint: the correction (if one replaced it), the outcome, the message and
+/// the metrics of the sweep that decided.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointVerdict {
+    /// The joint that replaces the given one and what was changed, when a correction passed.
+    pub correction: Option<(Joint, String)>,
+    /// Pass, Warn (corrected) or Fail.
+    pub outcome: CheckOutcome,
+    /// Why, for the report.
+    pub message: String,
+    /// The sweep that decided (the correction's when there is one).
+    pub metrics: SweepMetrics,
+}
 
-/// Sweeps joint `i` and, if it fails and may be corrected, tries to correct it.
-fn judge(
+/// Sweeps movable joint `joints[i]` (its child and what hangs below it move) and, if it fails
+/// and `correct` is set and the input did not declare it, tries to correct it.
+///
+/// Errors: a part index out of range, a joint without limits (other than continuous).
+pub fn verify_joint(
     scene: &Scene,
     joints: &[Joint],
     i: usize,
     params: &SweepParams,
     correct: bool,
-) -> VerifyResult<Judgement> {
+) -> VerifyResult<JointVerdict> {
     let joint = &joints[i];
     let moving = moving_group(joints, joint.child);
     let metrics = sweep(scene, joint, &moving, params)?;
     let reasons = metrics.failures(params);
     if reasons.is_empty() {
         let message = format!("{} steps without failure", metrics.steps);
-        return Ok((None, CheckOutcome::Pass, message, metrics));
+        return Ok(JointVerdict {
+            correction: None,
+            outcome: CheckOutcome::Pass,
+            message,
+            metrics,
+        });
     }
     if declared(joint) {
         let message = format!(
             "{}; declared by the input: reported, kept as given",
             reasons.join("; ")
         );
-        return Ok((None, CheckOutcome::Fail, message, metrics));
+        return Ok(JointVerdict {
+            correction: None,
+            outcome: CheckOutcome::Fail,
+            message,
+            metrics,
+        });
     }
     if correct && let Some(fix) = correct_joint(scene, joint, &moving, params)? {
         let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
-        return Ok((
-            Some((fix.joint, fix.change)),
-            CheckOutcome::Warn,
+        return Ok(JointVerdict {
+            correction: Some((fix.joint, fix.change)),
+            outcome: CheckOutcome::Warn,
             message,
-            fix.metrics,
-        ));
+            metrics: fix.metrics,
+        });
     }
     let suffix = if correct {
         "; no correction passed"
@@ -121,7 +151,12 @@ fn judge(
         ""
     };
     let message = format!("{}{suffix}", reasons.join("; "));
-    Ok((None, CheckOutcome::Fail, message, metrics))
+    Ok(JointVerdict {
+        correction: None,
+        outcome: CheckOutcome::Fail,
+        message,
+        metrics,
+    })
 }
 
 /// `f` over `items` on all cores; results in input order.

@@ -1,7 +1,9 @@
 //! Articulation candidates of a moving part from its contact with its parent (reference 7.2 and
 //! 17 item 13): 10 unit axes and 6 pivots.
 
-use uniphys_geometry::{DQuat, DVec3, KdTree, fit_plane_ransac, kmeans, principal_axes};
+use uniphys_geometry::{
+    DQuat, DVec3, KdTree, fit_plane_ransac, kmeans, principal_axes, projection_range,
+};
 
 use crate::patch::{PatchParams, grow_patch};
 use crate::{VerifyError, VerifyResult};
@@ -87,9 +89,65 @@ pub fn articulation_candidates(
     })
 }
 
+/// Pivots on the lines where hinges and spin axes of a part lie: for each of the part's box
+/// axes `axes`, the lines along it through the box's edges, the middles of its faces and its
+/// centre (a door's hinge edge, a screen's bottom edge, a handle's ends, a knob's centre line),
+/// each given by its point at the middle of the box; the part's mean point (on the axis of a
+/// part symmetric about it); then, for each of the 12 edge lines, the point of the parent
+/// (`parent_points`) nearest to it along the part's extent (a hinge often sits on the corner of
+/// the opening its panel closes, just off the panel's own edge). 40 points for 3 axes and a
+/// parent; object frame, metres.
+#[must_use]
+pub fn edge_pivots(part_points: &[DVec3], parent_points: &[DVec3], axes: [DVec3; 3]) -> Vec<DVec3> {
+    if part_points.is_empty() {
+        return Vec::new();
+    }
+    let ranges = axes.map(|a| projection_range(part_points, a));
+    let mut out = Vec::with_capacity(40);
+    let mut edges = Vec::with_capacity(12);
+    for k in 0..3 {
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        let along = 0.5 * (ranges[k].0 + ranges[k].1);
+        for (i, at_u) in spread(ranges[u]).into_iter().enumerate() {
+            for (j, at_v) in spread(ranges[v]).into_iter().enumerate() {
+                let p = axes[k] * along + axes[u] * at_u + axes[v] * at_v;
+                out.push(p);
+                if i != 1 && j != 1 {
+                    edges.push((k, p));
+                }
+            }
+        }
+    }
+    out.push(part_points.iter().sum::<DVec3>() / part_points.len() as f64);
+    for (k, p) in edges {
+        let axis = axes[k];
+        let nearest = parent_points
+            .iter()
+            .filter(|q| {
+                let t = q.dot(axis);
+                t >= ranges[k].0 && t <= ranges[k].1
+            })
+            .min_by(|a, b| {
+                let d = |q: &DVec3| (*q - p).reject_from_normalized(axis).length_squared();
+                d(a).total_cmp(&d(b))
+            });
+        if let Some(q) = nearest {
+            // Moved along the axis to the middle of the part, like the others.
+            out.push(*q + axis * (p - *q).dot(axis));
+        }
+    }
+    out
+}
+
+/// The two ends and the middle of a range.
+fn spread((lo, hi): (f64, f64)) -> [f64; 3] {
+    [lo, 0.5 * (lo + hi), hi]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use uniphys_geometry::TriMesh;
 
     fn grid(z: f64, n: usize, step: f64) -> Vec<DVec3> {
         (0..n)
@@ -134,6 +192,36 @@ mod tests {
         );
         let centroid = top.iter().sum::<DVec3>() / top.len() as f64;
         assert!((c.pivots[5] - centroid).length() < 1e-12);
+    }
+
+    #[test]
+    fn edge_pivots_lie_on_every_edge_line_of_a_box() {
+        // A door 1 m wide (x), 0.05 m thick (y), 2 m tall (z): its hinge runs along a vertical
+        // edge, e.g. the line x = 0, y = 0.
+        let door = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.05, 2.0));
+        let points = uniphys_geometry::sample_points(&door, 2000, 3);
+        // A frame post beside the hinge edge, 1 cm off the door (x = -0.01).
+        let post: Vec<DVec3> = (0..=20)
+            .map(|i| DVec3::new(-0.01, 0.0, 0.1 * f64::from(i)))
+            .collect();
+        let pivots = edge_pivots(&points, &post, [DVec3::X, DVec3::Y, DVec3::Z]);
+        // 28 on the door; the post lies beside the 8 edge lines along z and y, not along x.
+        assert_eq!(pivots.len(), 36);
+        let to_line =
+            |p: DVec3, on: DVec3, axis: DVec3| (p - on).reject_from_normalized(axis).length();
+        for (on, axis) in [
+            (DVec3::ZERO, DVec3::Z),
+            (DVec3::new(1.0, 0.05, 0.0), DVec3::Z),
+            (DVec3::new(0.5, 0.025, 0.0), DVec3::Z),
+            (DVec3::new(0.0, 0.0, 2.0), DVec3::X),
+            (DVec3::new(-0.01, 0.0, 0.0), DVec3::Z),
+        ] {
+            let nearest = pivots
+                .iter()
+                .map(|p| to_line(*p, on, axis))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < 1e-3, "{on} {axis}: {nearest}");
+        }
     }
 
     #[test]

@@ -1,12 +1,16 @@
-//! Feedback correction of a joint that failed its sweep: reversed range, then the other candidate
-//! axes and pivots, then a smaller range; the first variant that passes is kept.
+//! Feedback correction of a joint that failed its sweep, smallest change first: the range
+//! reversed or cut where the sweep first failed; another pivot on the same axis (contact
+//! clusters and the part's edge lines), keeping the direction, then reversing it; another axis;
+//! the other kind of motion (slide for turn, turn for slide). Within a tier the passing variant
+//! whose hinge runs closest along its parent wins, then the one with the most margin; a tier is only tried when the ones before it found
+//! nothing. A joint that nearly passed only has its range changed; a failure late in the range
+//! is cut before the range is reversed.
 
-use uniphys_geometry::{DVec3, box_axes};
+use uniphys_geometry::{DVec3, box_axes, projection_range};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
-use crate::candidates::articulation_candidates;
-
+use crate::candidates::{articulation_candidates, edge_pivots};
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
 
@@ -23,125 +27,272 @@ pub struct Correction {
 
 /// Steps of the quick pre-screen sweep run before a full one.
 const SCREEN_STEPS: usize = 24;
-/// Most variants screened per joint, in the order of [`variants`] (bounds the time spent on
-/// one joint: every range reversal and the nearest axes and pivots come first).
-const MAX_VARIANTS: usize = 24;
+/// A failed joint whose severity is at most this nearly passed: only its range may change.
+const NEARLY_PASSED_SEVERITY: f64 = 2.0;
+/// A failure at or beyond this fraction of the way to the limit on its side comes late.
+const LATE_FAILURE_FRACTION: f64 = 0.75;
+/// Most variants given a full sweep per tier (the best screened ones).
+const FULL_SWEEPS_PER_TIER: usize = 3;
+/// Slide travel tried when a turn becomes a slide, as fractions of the part's extent along the
+/// axis (largest first: the range is as far as the part can go).
+const SLIDE_TRAVEL_FRACTIONS: [f64; 3] = [0.8, 0.5, 0.25];
 
-/// Variants of `joint` in the order they are tried.
-fn variants(
-    scene: &Scene,
-    joint: &Joint,
-    moving: &[usize],
-    params: &SweepParams,
-) -> Vec<(Joint, String)> {
-    let mut out = Vec::new();
-    let Some(limits) = joint.limits else {
-        return out;
-    };
-    let with = |axis: DVec3, pivot: DVec3, lower: f64, upper: f64| {
-        let mut j = joint.clone();
-        j.axis_in_object = axis.to_array();
-        j.pivot_in_object_m = pivot.to_array();
-        j.limits = Some(JointLimits { lower, upper });
-        j
-    };
-    let axis = DVec3::from_array(joint.axis_in_object);
-    let pivot = DVec3::from_array(joint.pivot_in_object_m);
-    let (lo, hi) = (limits.lower, limits.upper);
-    out.push((
-        with(axis, pivot, -hi, -lo),
-        format!("range reversed to [{:.4}, {:.4}]", -hi, -lo),
-    ));
-    let moving_points = scene.points_of(moving);
-    let parent_points = &scene.samples[joint.parent.0 as usize];
-    if let Ok(c) = articulation_candidates(
-        &moving_points,
-        parent_points,
-        box_axes(&scene.points_of(&[joint.child.0 as usize])),
-        scene.diagonal_m,
-        &params.patch,
-        params.seed,
-    ) {
-        let mut axes: Vec<(usize, DVec3)> = c.axes.iter().copied().enumerate().collect();
-        axes.sort_by(|a, b| angle(a.1, axis).total_cmp(&angle(b.1, axis)));
-        for (k, candidate) in axes.into_iter().filter(|(_, a)| angle(*a, axis) > 1e-2) {
-            for sign in [1.0, -1.0] {
-                let a = candidate * sign;
-                out.push((
-                    with(a, pivot, lo, hi),
-                    format!(
-                        "axis changed to candidate {k} ({:.3}, {:.3}, {:.3})",
-                        a.x, a.y, a.z
-                    ),
-                ));
-            }
-        }
-        if joint.kind != JointKind::Prismatic {
-            let mut pivots: Vec<(usize, DVec3)> = c.pivots.iter().copied().enumerate().collect();
-            pivots.sort_by(|a, b| a.1.distance(pivot).total_cmp(&b.1.distance(pivot)));
-            for (k, p) in pivots.into_iter().filter(|(_, p)| p.distance(pivot) > 1e-6) {
-                for (l, h) in [(lo, hi), (-hi, -lo)] {
-                    out.push((
-                        with(axis, p, l, h),
-                        format!(
-                            "pivot changed to candidate {k} ({:.4}, {:.4}, {:.4}), range [{l:.4}, {h:.4}]",
-                            p.x, p.y, p.z
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    for fraction in [0.5, 0.25] {
-        let (l, h) = (lo * fraction, hi * fraction);
-        out.push((
-            with(axis, pivot, l, h),
-            format!("range reduced to [{l:.4}, {h:.4}]"),
-        ));
-    }
-    out
+/// One way of changing a joint.
+struct Variant {
+    joint: Joint,
+    change: String,
 }
 
-/// Angle between two lines (sign ignored), radians.
-fn angle(a: DVec3, b: DVec3) -> f64 {
-    a.normalize()
-        .dot(b.normalize())
-        .abs()
-        .clamp(0.0, 1.0)
-        .acos()
-}
-
-/// Tries the variants of a failed `joint` (moving the parts in `moving`) and returns the first
-/// whose sweep passes, or `None` if none does. Each variant is screened with a short sweep
-/// before the full one; at most 24 variants are tried.
+/// Tries the variants of a failed `joint` (moving the parts in `moving`), tier by tier, and
+/// returns the best passing variant of the first tier that has one, or `None`.
 pub fn correct_joint(
     scene: &Scene,
     joint: &Joint,
     moving: &[usize],
     params: &SweepParams,
 ) -> VerifyResult<Option<Correction>> {
+    let original = sweep(scene, joint, moving, params)?;
+    let nearly_passed = original.severity(params) <= NEARLY_PASSED_SEVERITY;
     let screen = SweepParams {
         steps: SCREEN_STEPS,
         ..*params
     };
-    for (candidate, change) in variants(scene, joint, moving, params)
-        .into_iter()
-        .take(MAX_VARIANTS)
-    {
-        if !sweep(scene, &candidate, moving, &screen)?
-            .failures(&screen)
-            .is_empty()
-        {
-            continue;
+    let rank = |m: &SweepMetrics, p: &SweepParams| preference(m, p, scene.diagonal_m);
+    for tier in tiers(scene, joint, moving, params, &original, nearly_passed) {
+        let mut screened: Vec<((i64, f64), usize)> = Vec::new();
+        for (k, variant) in tier.iter().enumerate() {
+            let m = sweep(scene, &variant.joint, moving, &screen)?;
+            if m.failures(&screen).is_empty() {
+                screened.push((rank(&m, &screen), k));
+            }
         }
-        let metrics = sweep(scene, &candidate, moving, params)?;
-        if metrics.failures(params).is_empty() {
+        screened.sort_by(|a, b| compare(a.0, b.0).then(a.1.cmp(&b.1)));
+        let mut best: Option<((i64, f64), usize, SweepMetrics)> = None;
+        for &(_, k) in screened.iter().take(FULL_SWEEPS_PER_TIER) {
+            let m = sweep(scene, &tier[k].joint, moving, params)?;
+            if !m.failures(params).is_empty() {
+                continue;
+            }
+            let r = rank(&m, params);
+            if best.as_ref().is_none_or(|b| compare(r, b.0).is_lt()) {
+                best = Some((r, k, m));
+            }
+        }
+        if let Some((_, k, metrics)) = best {
+            let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
             return Ok(Some(Correction {
-                joint: candidate,
+                joint,
                 change,
                 metrics,
             }));
         }
     }
     Ok(None)
+}
+
+/// How much a passing variant is preferred (smaller first): a hinge that runs along its parent
+/// (its mean distance to the parent in steps of 0.5 % of the diagonal; 0 for slides), then the
+/// most margin (severity).
+fn preference(m: &SweepMetrics, params: &SweepParams, diagonal_m: f64) -> (i64, f64) {
+    let along = (m.hinge_mean_to_parent_m / (HINGE_STEP_FRACTION * diagonal_m)).round() as i64;
+    (along, m.severity(params))
+}
+
+/// Orders two preferences.
+fn compare(a: (i64, f64), b: (i64, f64)) -> std::cmp::Ordering {
+    a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
+}
+
+/// Steps in which hinges' distances to their parent are compared, fraction of the diagonal.
+const HINGE_STEP_FRACTION: f64 = 0.005;
+
+/// The variants of `joint`, in tiers of growing change.
+fn tiers(
+    scene: &Scene,
+    joint: &Joint,
+    moving: &[usize],
+    params: &SweepParams,
+    original: &SweepMetrics,
+    nearly_passed: bool,
+) -> Vec<Vec<Variant>> {
+    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
+    let part_axes = box_axes(&child_points);
+    let limits = joint.limits;
+    let with = |kind: JointKind, a: DVec3, p: DVec3, limits: Option<JointLimits>| {
+        let mut j = joint.clone();
+        j.kind = kind;
+        j.axis_in_object = a.to_array();
+        j.pivot_in_object_m = p.to_array();
+        j.limits = limits;
+        j
+    };
+    let range = |lower: f64, upper: f64| Some(JointLimits { lower, upper });
+    let reversed = limits.map(|l| JointLimits {
+        lower: -l.upper,
+        upper: -l.lower,
+    });
+    let mut tiers: Vec<Vec<Variant>> = Vec::new();
+
+    // 1-2. The other way, and as far as the sweep went before it failed: the cut first when the
+    // failure comes late (the part closes onto something past a limit that overshoots), the
+    // reversal first when it comes early (the part moves into its parent at once).
+    let mut reverse_tier = Vec::new();
+    if let Some(r) = reversed {
+        reverse_tier.push(Variant {
+            joint: with(joint.kind, axis, pivot, Some(r)),
+            change: format!("range reversed to [{:.4}, {:.4}]", r.lower, r.upper),
+        });
+    }
+    let mut cut_tier = Vec::new();
+    let mut late = false;
+    if let (Some(l), Some(q)) = (limits, original.failure_coordinate()) {
+        let end = if q > 0.0 { l.upper } else { l.lower };
+        late = end != 0.0 && q / end >= LATE_FAILURE_FRACTION;
+        let cut = if q > 0.0 {
+            (l.lower, l.lower.max(0.0) + 0.9 * (q - l.lower.max(0.0)))
+        } else {
+            (l.upper.min(0.0) + 0.9 * (q - l.upper.min(0.0)), l.upper)
+        };
+        if cut.1 - cut.0 > 0.25 * (l.upper - l.lower) {
+            cut_tier.push(Variant {
+                joint: with(joint.kind, axis, pivot, range(cut.0, cut.1)),
+                change: format!(
+                    "range cut to [{:.4}, {:.4}] where the sweep first failed",
+                    cut.0, cut.1
+                ),
+            });
+        }
+    }
+    if late {
+        tiers.extend([cut_tier, reverse_tier]);
+    } else {
+        tiers.extend([reverse_tier, cut_tier]);
+    }
+    if nearly_passed {
+        return tiers;
+    }
+
+    let candidates = articulation_candidates(
+        &scene.points_of(moving),
+        &scene.points_of(&[joint.parent.0 as usize]),
+        part_axes,
+        scene.diagonal_m,
+        &params.patch,
+        params.seed,
+    )
+    .ok();
+    let mut pivots: Vec<DVec3> = candidates
+        .as_ref()
+        .map_or_else(Vec::new, |c| c.pivots.clone());
+    pivots.extend(edge_pivots(
+        &child_points,
+        &scene.points_of(&[joint.parent.0 as usize]),
+        part_axes,
+    ));
+
+    // 3. Another pivot on the same axis: the same way first, then reversed.
+    if joint.kind != JointKind::Prismatic {
+        let moved: Vec<DVec3> = distinct_lines(&pivots, axis, scene.diagonal_m)
+            .into_iter()
+            .filter(|p| {
+                (*p - pivot).reject_from_normalized(axis).length() > 1e-3 * scene.diagonal_m
+            })
+            .collect();
+        for (lim, how) in [(limits, ""), (reversed, ", range reversed")] {
+            tiers.push(
+                moved
+                    .iter()
+                    .map(|p| Variant {
+                        joint: with(joint.kind, axis, *p, lim),
+                        change: format!("pivot moved to ({:.4}, {:.4}, {:.4}){how}", p.x, p.y, p.z),
+                    })
+                    .collect(),
+            );
+        }
+    }
+    // 4. Another axis (candidates from the contact and the part's box), both ways.
+    let mut axes: Vec<DVec3> = candidates
+        .as_ref()
+        .map_or_else(Vec::new, |c| c.axes.clone());
+    axes.extend(part_axes);
+    let mut other_axes: Vec<DVec3> = Vec::new();
+    for a in axes {
+        let a = a.normalize_or_zero();
+        if a == DVec3::ZERO || line_angle(a, axis) < 0.05 {
+            continue;
+        }
+        if other_axes.iter().all(|b| line_angle(a, *b) > 0.05) {
+            other_axes.push(a);
+        }
+    }
+    let mut tier = Vec::new();
+    for a in &other_axes {
+        for sign in [1.0, -1.0] {
+            let a = *a * sign;
+            tier.push(Variant {
+                joint: with(joint.kind, a, pivot, limits),
+                change: format!("axis changed to ({:.3}, {:.3}, {:.3})", a.x, a.y, a.z),
+            });
+        }
+    }
+    tiers.push(tier);
+
+    // 5. The other kind of motion along or about the same axis.
+    let mut tier = Vec::new();
+    match joint.kind {
+        JointKind::Revolute | JointKind::Continuous => {
+            let (lo, hi) = projection_range(&child_points, axis);
+            for fraction in SLIDE_TRAVEL_FRACTIONS {
+                let travel = fraction * (hi - lo);
+                for (l, h) in [(0.0, travel), (-travel, 0.0)] {
+                    tier.push(Variant {
+                        joint: with(JointKind::Prismatic, axis, pivot, range(l, h)),
+                        change: format!("made a slide along the axis, range [{l:.4}, {h:.4}]"),
+                    });
+                }
+            }
+        }
+        JointKind::Prismatic => {
+            let quarter = std::f64::consts::FRAC_PI_2;
+            for p in distinct_lines(&pivots, axis, scene.diagonal_m) {
+                for (l, h) in [(0.0, quarter), (-quarter, 0.0)] {
+                    tier.push(Variant {
+                        joint: with(JointKind::Revolute, axis, p, range(l, h)),
+                        change: format!(
+                            "made a hinge about the axis through ({:.4}, {:.4}, {:.4}), range [{l:.4}, {h:.4}]",
+                            p.x, p.y, p.z
+                        ),
+                    });
+                }
+            }
+        }
+        JointKind::Fixed => {}
+    }
+    tiers.push(tier);
+    tiers
+}
+
+/// The pivots that lie on distinct lines along `axis` (closer than 0.1 % of the diagonal: one).
+fn distinct_lines(pivots: &[DVec3], axis: DVec3, diagonal_m: f64) -> Vec<DVec3> {
+    let mut out: Vec<DVec3> = Vec::new();
+    for p in pivots {
+        if out
+            .iter()
+            .all(|q| (*p - *q).reject_from_normalized(axis).length() > 1e-3 * diagonal_m)
+        {
+            out.push(*p);
+        }
+    }
+    out
+}
+
+/// Angle between two lines (sign ignored), radians.
+fn line_angle(a: DVec3, b: DVec3) -> f64 {
+    a.normalize()
+        .dot(b.normalize())
+        .abs()
+        .clamp(0.0, 1.0)
+        .acos()
 }

@@ -14,7 +14,9 @@
 mod articulation;
 mod candidates;
 mod correct;
+mod crossing;
 mod error;
+mod fit;
 mod intrinsic;
 mod motion;
 mod patch;
@@ -22,12 +24,15 @@ mod penetration;
 mod scene;
 mod sweep;
 
-pub use articulation::{ArticulationOutcome, parallel_map, verify_articulation};
+pub use articulation::{
+    ArticulationOutcome, JointVerdict, parallel_map, verify_articulation, verify_joint,
+};
 pub use candidates::{
-    AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates,
+    AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates, edge_pivots,
 };
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
+pub use fit::TurnFit;
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use patch::{PatchParams, grow_patch};

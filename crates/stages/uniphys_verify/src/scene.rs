@@ -5,6 +5,7 @@ use std::collections::BTreeSet;
 use uniphys_geometry::{Aabb, DVec3, TriMesh, sample_points};
 use uniphys_types::{Joint, PartId};
 
+use crate::crossing::Surfaces;
 use crate::penetration::Colliders;
 use crate::{VerifyError, VerifyResult};
 
@@ -13,6 +14,10 @@ pub struct Scene {
     /// Surface samples per part, metres.
     pub(crate) samples: Vec<Vec<DVec3>>,
     pub(crate) colliders: Colliders,
+    /// The parts' own triangle surfaces, for crossings.
+    pub(crate) surfaces: Surfaces,
+    /// Surface area of each part, m^2.
+    pub(crate) areas_m2: Vec<f64>,
     /// Diagonal of the whole object's bounds, metres: the unit of every relative threshold.
     pub diagonal_m: f64,
     /// Centre of the whole object's bounds, object frame, metres.
@@ -20,8 +25,9 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Samples `samples_per_part` surface points of each part (seeded by the part index) and
-    /// builds its convex colliders (`colliders[part]`, closed convex hulls).
+    /// Samples `samples_per_part` surface points of each part (seeded by the part index),
+    /// builds its convex colliders (`colliders[part]`, closed convex hulls) and a hierarchy over
+    /// its own triangles.
     ///
     /// Errors: meshes and colliders of different lengths; an empty or flat object.
     pub fn new(
@@ -51,6 +57,8 @@ impl Scene {
         Ok(Self {
             samples,
             colliders: Colliders::new(colliders, bounds.center()),
+            surfaces: Surfaces::new(meshes, bounds.center()),
+            areas_m2: meshes.iter().map(TriMesh::area).collect(),
             diagonal_m,
             centre_m: bounds.center(),
         })

@@ -6,6 +6,8 @@ use std::collections::BTreeMap;
 use uniphys_geometry::{DVec3, KdTree, fit_plane};
 use uniphys_types::{Joint, JointKind};
 
+use crate::crossing::Crossings;
+use crate::fit::TurnFit;
 use crate::motion::{JointMotion, sweep_coordinates};
 use crate::patch::{PatchParams, grow_patch, mean_spacing_m};
 use crate::scene::Scene;
@@ -25,14 +27,39 @@ pub struct SweepParams {
     /// Rotational joints fail when more than this fraction of steps has bad overlap and the
     /// 10th percentile is bad too (reference: 0.1).
     pub bad_overlap_fraction_max: f64,
-    /// Interpenetration of colliders beyond their overlap at rest that fails the joint.
+    /// Interpenetration of colliders beyond their overlap at rest (a fraction of the object
+    /// diagonal) counted as a penetrating step; reported, and a penalty of the grounder's
+    /// hypotheses, but no failure: convex hulls fill the cavities of real parts.
     pub penetration_tolerance_fraction: f64,
+    /// The joint fails when more than this fraction of the moving surface that is clear of other
+    /// parts at rest passes through another part's surface where the moving parts were not at
+    /// rest.
+    pub crossing_fraction_max: f64,
+    /// Moving surface points this close to another part at rest (a fraction of the moving
+    /// group's diagonal, at most `rest_contact_object_fraction` of the object's) are in contact
+    /// at rest: they may slide along or out of it.
+    pub rest_contact_part_fraction: f64,
+    /// Upper bound of that contact distance, a fraction of the object diagonal.
+    pub rest_contact_object_fraction: f64,
+    /// A turning part whose centroid is closer to the axis than this fraction of its reach turns
+    /// about its middle: it must be round about the axis.
+    pub middle_ratio_max: f64,
+    /// A part whose box is thinner than this fraction of its size is a panel: it must not turn
+    /// about its own normal unless round.
+    pub panel_thinness_max: f64,
+    /// An axis within this angle of a panel's normal is about the normal, radians.
+    pub normal_axis_angle_max_rad: f64,
+    /// A part whose turned copies lie within this mean distance of itself (a fraction of its
+    /// size) is round about the axis.
+    pub roundness_max: f64,
     /// Seed of the candidate search of corrections.
     pub seed: u64,
 }
 
 impl Default for SweepParams {
-    /// 200 steps, the reference's ratios, penetration tolerance 1.5 % of the diagonal.
+    /// 200 steps, the reference's ratios, penetration tolerance 1.5 % of the diagonal, at most
+    /// 2 % of the clear moving surface through other parts, contact at rest within 3 % of the
+    /// moving group's diagonal (at most 1 % of the object's).
     fn default() -> Self {
         Self {
             steps: 200,
@@ -41,6 +68,13 @@ impl Default for SweepParams {
             overlap_min: 0.4,
             bad_overlap_fraction_max: 0.1,
             penetration_tolerance_fraction: 0.015,
+            crossing_fraction_max: 0.02,
+            rest_contact_part_fraction: 0.03,
+            rest_contact_object_fraction: 0.01,
+            middle_ratio_max: 0.2,
+            panel_thinness_max: 0.25,
+            normal_axis_angle_max_rad: std::f64::consts::FRAC_PI_6,
+            roundness_max: 0.02,
             seed: 7,
         }
     }
@@ -79,6 +113,29 @@ pub struct SweepMetrics {
     pub worst_coordinate: f64,
     /// Part the moving group penetrated deepest.
     pub worst_part: Option<usize>,
+    /// Moving surface samples clear of every other part at rest (the ones crossings count).
+    pub clear_points: usize,
+    /// Of them, the samples that passed through another part's surface outside the space the
+    /// moving parts filled at rest.
+    pub crossed_points: usize,
+    /// `crossed_points / clear_points` at the end of the sweep (0 without clear points).
+    pub crossed_fraction: f64,
+    /// Coordinate where the crossed fraction first exceeded the maximum (rad or m), if it did.
+    pub crossing_coordinate: Option<f64>,
+    /// The part most crossed, if any.
+    pub crossed_part: Option<usize>,
+    /// Coordinate of the first step that lost contact with the parent, if one did.
+    pub lost_contact_coordinate: Option<f64>,
+    /// Turning joints: distance from the axis line (where it passes the moving parts) to the
+    /// parent's surface, metres; 0 for slides.
+    pub hinge_to_parent_m: f64,
+    /// Turning joints: mean distance from the axis line, over the same stretch, to the parent's
+    /// surface, metres (small when the hinge runs along its parent); 0 for slides.
+    pub hinge_mean_to_parent_m: f64,
+    /// Largest contact threshold a step may need before it counts as contact lost, metres.
+    pub contact_reach_m: f64,
+    /// Turning joints: how the child sits on its axis (`None` for slides).
+    pub turn_fit: Option<TurnFit>,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -166,6 +223,7 @@ pub fn sweep(
     };
 
     let tolerance = params.penetration_tolerance_fraction * diag;
+    let hinge = hinge_to_parent_m(scene, &motion, &moving_points, parent);
     let mut metrics = SweepMetrics {
         kind: joint.kind,
         steps: params.steps,
@@ -182,11 +240,49 @@ pub fn sweep(
         penetration_tolerance_m: tolerance,
         worst_coordinate: 0.0,
         worst_part: None,
+        clear_points: 0,
+        crossed_points: 0,
+        crossed_fraction: 0.0,
+        crossing_coordinate: None,
+        crossed_part: None,
+        lost_contact_coordinate: None,
+        hinge_to_parent_m: hinge.0,
+        hinge_mean_to_parent_m: hinge.1,
+        contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
+            + step * patch.max_step_increments as f64,
+        turn_fit: matches!(joint.kind, JointKind::Revolute | JointKind::Continuous)
+            .then(|| {
+                let child = joint.child.0 as usize;
+                let samples = &scene.samples[child];
+                let spacing = (scene.areas_m2[child] / samples.len().max(1) as f64).sqrt();
+                TurnFit::of(samples, spacing, &motion)
+            })
+            .flatten(),
     };
+    let mut crossings = Crossings::new(
+        scene,
+        &moving_points,
+        moving,
+        &still,
+        &motion,
+        (lower.min(0.0), upper.max(0.0)),
+        params,
+    );
+    metrics.clear_points = crossings.clear.len();
     let mut thickness = Vec::new();
     let mut overlap = Vec::new();
     let mut growth_sum = 0.0;
-    for q in sweep_coordinates(lower, upper, params.steps) {
+    // Visited outward from the rest pose, the positive side first: every point's path is then
+    // continuous from rest (a continuous joint's first step is not a jump to half a turn).
+    let coordinates = sweep_coordinates(lower, upper, params.steps);
+    let mut order: Vec<f64> = coordinates.iter().copied().filter(|&q| q >= 0.0).collect();
+    order.extend(coordinates.iter().rev().copied().filter(|&q| q < 0.0));
+    let mut previous_side = true;
+    for q in order {
+        if previous_side != (q >= 0.0) {
+            previous_side = q >= 0.0;
+            crossings.restart(&moving_points);
+        }
         let pose = colliders.pose(&motion, q);
         let mut deepest = (0.0f64, None);
         for (&(a, b), rest) in pairs.iter().zip(&baseline) {
@@ -204,12 +300,18 @@ pub fn sweep(
             metrics.worst_coordinate = q;
             metrics.worst_part = deepest.1;
         }
+        let to_object = motion.object_from_moved(q);
+        let moved: Vec<DVec3> = moving_points
+            .iter()
+            .map(|p| to_object.transform_point3(*p))
+            .collect();
+        crossings.advance(scene, &moved);
+        if metrics.crossing_coordinate.is_none()
+            && crossings.fraction() > params.crossing_fraction_max
+        {
+            metrics.crossing_coordinate = Some(q);
+        }
         if let Some(reference) = &reference {
-            let to_object = motion.object_from_moved(q);
-            let moved: Vec<DVec3> = moving_points
-                .iter()
-                .map(|p| to_object.transform_point3(*p))
-                .collect();
             let found = grow_patch(
                 parent_points,
                 &KdTree::new(moved),
@@ -224,11 +326,17 @@ pub fn sweep(
                     thickness.push(reference.thickness_ratio(&points, threshold)?);
                     overlap.push(reference.overlap_ratio(&points));
                 }
-                None => metrics.lost_contact_steps += 1,
+                None => {
+                    metrics.lost_contact_steps += 1;
+                    metrics.lost_contact_coordinate.get_or_insert(q);
+                }
             }
         }
     }
     metrics.mean_penetration_growth_m = growth_sum / params.steps.max(1) as f64;
+    metrics.crossed_points = crossings.crossed_count;
+    metrics.crossed_fraction = crossings.fraction();
+    metrics.crossed_part = crossings.most_crossed();
     if !thickness.is_empty() {
         metrics.thickness_ratio_p95 = percentile(&mut thickness, 95.0);
         metrics.bad_overlap_fraction = overlap.iter().filter(|&&o| o < params.overlap_min).count()
@@ -238,6 +346,41 @@ pub fn sweep(
     }
     Ok(metrics)
 }
+
+/// Smallest and mean distance from a turning joint's axis line, over the stretch where it
+/// passes the moving points, to the parent's surface (0 for other joints), metres.
+fn hinge_to_parent_m(
+    scene: &Scene,
+    motion: &JointMotion,
+    moving: &[DVec3],
+    parent: usize,
+) -> (f64, f64) {
+    if !matches!(motion.kind, JointKind::Revolute | JointKind::Continuous) || moving.is_empty() {
+        return (0.0, 0.0);
+    }
+    let axis = motion.axis_in_object;
+    let pivot = motion.pivot_in_object_m;
+    let (lo, hi) = moving
+        .iter()
+        .map(|p| (*p - pivot).dot(axis))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+            (lo.min(t), hi.max(t))
+        });
+    let distances: Vec<f64> = (0..=HINGE_SAMPLES)
+        .map(|k| pivot + axis * (lo + (hi - lo) * k as f64 / HINGE_SAMPLES as f64))
+        .map(|p| scene.surfaces.distance_m(parent, p))
+        .collect();
+    (
+        distances.iter().copied().fold(f64::INFINITY, f64::min),
+        distances.iter().sum::<f64>() / distances.len() as f64,
+    )
+}
+
+/// Severity of a shape that does not fit its turning (no range change fixes it).
+const SHAPE_MISFIT_SEVERITY: f64 = 3.0;
+
+/// Points sampled along a hinge line.
+const HINGE_SAMPLES: usize = 20;
 
 /// The contact at rest that later steps are compared with.
 struct ContactReference {
@@ -308,11 +451,15 @@ fn percentile(values: &mut [f64], pct: f64) -> f64 {
 impl SweepMetrics {
     /// Why the joint fails, empty when it passes:
     /// - the child does not touch its parent at rest;
-    /// - rotational joints: contact lost at some step, or severe overlap change (more than
+    /// - rotational joints: contact lost at some step while the axis runs away from the parent,
+    ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
+    /// - turning joints: the child turns about an axis through its middle, or a panel about its
+    ///   own normal, and is not round about the axis;
     /// - any joint: the 95th percentile thickness ratio above `thickness_ratio_max`;
-    /// - any joint: a moving collider penetrates a still one deeper than at rest by more than the
-    ///   penetration tolerance.
+    /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
+    ///   at rest passes through another part's surface, outside the space the moving parts filled
+    ///   at rest (what overlapped at rest, or a symmetric part turning in place, is not new).
     #[must_use]
     pub fn failures(&self, params: &SweepParams) -> Vec<String> {
         let mut reasons = Vec::new();
@@ -320,7 +467,7 @@ impl SweepMetrics {
             reasons.push("the moving part does not touch its parent at rest".to_owned());
         }
         let rotational = matches!(self.kind, JointKind::Revolute | JointKind::Continuous);
-        if rotational && self.initial_contact_points > 0 && self.lost_contact_steps > 0 {
+        if self.hinge_lost_contact() {
             reasons.push(format!(
                 "hinge lost contact with its parent in {} of {} steps",
                 self.lost_contact_steps, self.steps
@@ -342,20 +489,101 @@ impl SweepMetrics {
                 self.thickness_ratio_p95
             ));
         }
-        if self.penetrating_steps > 0 {
+        if let Some(misfit) = self.shape_misfit(params) {
+            reasons.push(misfit);
+        }
+        if self.crossed_fraction > params.crossing_fraction_max {
             let part = self
-                .worst_part
+                .crossed_part
                 .map_or_else(|| "?".to_owned(), |p| p.to_string());
             reasons.push(format!(
-                "penetrates part {part} by {:.4} m at coordinate {:.4} ({} of {} steps beyond {:.4} m)",
-                self.max_penetration_growth_m,
-                self.worst_coordinate,
-                self.penetrating_steps,
-                self.steps,
-                self.penetration_tolerance_m
+                "passes through part {part}: {:.1} % of its clear surface from coordinate {:.4} (at most {:.1} %)",
+                100.0 * self.crossed_fraction,
+                self.crossing_coordinate.unwrap_or(f64::NAN),
+                100.0 * params.crossing_fraction_max
             ));
         }
         reasons
+    }
+
+    /// How badly the joint fails, comparable across variants of one joint: the largest of each
+    /// rule's measure over its limit (crossed fraction, thickness ratio; when they fail, lost
+    /// contact of a turning joint counts 1 plus ten times its share of steps, a severe overlap
+    /// change 1 plus five times its excess of bad steps, a shape that does not fit the turning 3;
+    /// 10 without contact at rest). At most 1 when the sweep passes.
+    #[must_use]
+    pub fn severity(&self, params: &SweepParams) -> f64 {
+        if self.initial_contact_points == 0 {
+            return 10.0;
+        }
+        let steps = self.steps.max(1) as f64;
+        let rotational = matches!(self.kind, JointKind::Revolute | JointKind::Continuous);
+        let mut s = (self.crossed_fraction / params.crossing_fraction_max)
+            .max(self.thickness_ratio_p95 / params.thickness_ratio_max);
+        if self.hinge_lost_contact() {
+            s = s.max(1.0 + 10.0 * self.lost_contact_steps as f64 / steps);
+        }
+        if rotational
+            && self.contact_steps > 0
+            && self.bad_overlap_fraction > params.bad_overlap_fraction_max
+            && self.overlap_ratio_p10 < params.overlap_min
+        {
+            s = s.max(1.0 + 5.0 * (self.bad_overlap_fraction - params.bad_overlap_fraction_max));
+        }
+        if self.shape_misfit(params).is_some() {
+            s = s.max(SHAPE_MISFIT_SEVERITY);
+        }
+        s
+    }
+
+    /// Why the child's shape does not fit its turning, if it does not: an axis through its
+    /// middle or along a panel's normal, and the part not round about it.
+    fn shape_misfit(&self, params: &SweepParams) -> Option<String> {
+        let fit = self.turn_fit?;
+        if fit.round(params.roundness_max) {
+            return None;
+        }
+        if fit.offcentre_ratio < params.middle_ratio_max {
+            return Some(format!(
+                "turns about an axis through its middle (centroid at {:.0} % of its reach from the axis) but is not round about it (mismatch {:.3})",
+                100.0 * fit.offcentre_ratio,
+                fit.roundness_error
+            ));
+        }
+        if fit.thinness < params.panel_thinness_max
+            && fit.axis_to_thin_rad < params.normal_axis_angle_max_rad
+        {
+            return Some(format!(
+                "a panel (thickness {:.0} % of its size) turning about its own normal, {:.0} degrees off it, and not round about it",
+                100.0 * fit.thinness,
+                fit.axis_to_thin_rad.to_degrees()
+            ));
+        }
+        None
+    }
+
+    /// A turning joint lost contact with its parent: some step found no contact patch, and the
+    /// axis itself runs away from the parent (a hinge on its parent keeps the part attached
+    /// even where a thick door or a handle swings clear of the parent's surface).
+    fn hinge_lost_contact(&self) -> bool {
+        matches!(self.kind, JointKind::Revolute | JointKind::Continuous)
+            && self.initial_contact_points > 0
+            && self.lost_contact_steps > 0
+            && self.hinge_to_parent_m > self.contact_reach_m
+    }
+
+    /// The coordinate where the sweep first failed (passed through a part or lost contact), if
+    /// it did at a known step.
+    #[must_use]
+    pub fn failure_coordinate(&self) -> Option<f64> {
+        let rotational = matches!(self.kind, JointKind::Revolute | JointKind::Continuous);
+        let lost = self
+            .lost_contact_coordinate
+            .filter(|_| rotational && self.hinge_lost_contact());
+        match (self.crossing_coordinate, lost) {
+            (Some(a), Some(b)) => Some(if a.abs() <= b.abs() { a } else { b }),
+            (a, b) => a.or(b),
+        }
     }
 
     /// The metrics by name, units in the names.
@@ -375,9 +603,23 @@ impl SweepMetrics {
             ("penetrating_steps", self.penetrating_steps as f64),
             ("penetration_tolerance_m", self.penetration_tolerance_m),
             ("worst_coordinate", self.worst_coordinate),
+            ("clear_points", self.clear_points as f64),
+            ("crossed_points", self.crossed_points as f64),
+            ("crossed_fraction", self.crossed_fraction),
+            ("hinge_to_parent_m", self.hinge_to_parent_m),
+            ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
         ];
+        let fit = self.turn_fit.map(|f| {
+            [
+                ("axis_offcentre_ratio", f.offcentre_ratio),
+                ("part_thinness", f.thinness),
+                ("axis_to_thin_direction_rad", f.axis_to_thin_rad),
+                ("roundness_error", f.roundness_error),
+            ]
+        });
         entries
             .into_iter()
+            .chain(fit.into_iter().flatten())
             .map(|(k, v)| (k.to_owned(), v))
             .collect()
     }

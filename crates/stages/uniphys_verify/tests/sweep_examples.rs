@@ -67,13 +67,13 @@ fn true_joints_of_every_example_pass() {
 }
 
 #[test]
-fn a_door_turning_inwards_penetrates_the_carcass_and_is_reversed() {
+fn a_door_turning_inwards_passes_through_the_carcass_and_is_reversed() {
     let f = fixture("cabinet");
     let mut door = f.joint("door");
     door.axis_in_object = (-DVec3::from_array(door.axis_in_object)).to_array();
     let reasons = f.failures(&door);
     assert!(
-        reasons.iter().any(|r| r.contains("penetrates")),
+        reasons.iter().any(|r| r.contains("passes through")),
         "{reasons:?}"
     );
     let fixed = f.corrected(&door);
@@ -84,13 +84,13 @@ fn a_door_turning_inwards_penetrates_the_carcass_and_is_reversed() {
 }
 
 #[test]
-fn a_drawer_sliding_backwards_penetrates_the_back_and_is_corrected() {
+fn a_drawer_sliding_backwards_passes_through_the_back_and_is_corrected() {
     let f = fixture("cabinet");
     let mut drawer = f.joint("drawer");
     drawer.axis_in_object = [0.0, 1.0, 0.0];
     let reasons = f.failures(&drawer);
     assert!(
-        reasons.iter().any(|r| r.contains("penetrates")),
+        reasons.iter().any(|r| r.contains("passes through")),
         "{reasons:?}"
     );
     let fixed = f.corrected(&drawer);

@@ -1,0 +1,252 @@
+//! The Markdown tables and the JSON of `verify-bench`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde_json::json;
+use uniphys_types::{CheckOutcome, JointKind};
+
+use crate::breakage::Breakage;
+use crate::object::{JointResult, ObjectResult};
+
+/// Pivot candidate distance a rotating joint's nearest candidate should be within, [0,2] frame.
+const PIVOT_TARGET_MODEL: f64 = 0.02;
+
+type Results = [(String, anyhow::Result<ObjectResult>)];
+
+fn kind_name(kind: JointKind) -> &'static str {
+    match kind {
+        JointKind::Revolute => "revolute",
+        JointKind::Prismatic => "prismatic",
+        JointKind::Continuous => "continuous",
+        JointKind::Fixed => "fixed",
+    }
+}
+
+fn pct(n: usize, d: usize) -> String {
+    if d == 0 {
+        "-".to_owned()
+    } else {
+        format!("{:.1} %", 100.0 * n as f64 / d as f64)
+    }
+}
+
+fn joints(results: &Results) -> impl Iterator<Item = (&str, &ObjectResult, &JointResult)> {
+    results
+        .iter()
+        .filter_map(|(name, r)| r.as_ref().ok().map(|o| (name.as_str(), o)))
+        .flat_map(|(name, o)| o.joints.iter().map(move |j| (name, o, j)))
+}
+
+/// The whole report.
+pub(crate) fn report(results: &Results) -> String {
+    let mut out = String::from("# Verification of true joints of real objects\n\n");
+    let ok = results.iter().filter(|(_, r)| r.is_ok()).count();
+    let _ = writeln!(out, "{ok} objects judged, {} skipped\n", results.len() - ok);
+    out.push_str(&true_joint_table(
+        results,
+        |j| kind_name(j.kind).to_owned(),
+        "kind",
+    ));
+    out.push_str(&true_joint_table(
+        results,
+        |j| format!("{} {}", kind_name(j.kind), j.label),
+        "kind and part label",
+    ));
+    out.push_str(&failure_list(results));
+    out.push_str(&breakage_table(results));
+    out.push_str(&pivot_table(results));
+    out.push_str(&time_line(results));
+    out
+}
+
+/// Counts of true-joint outcomes.
+#[derive(Default)]
+struct Counts {
+    total: usize,
+    pass: usize,
+    corrected: usize,
+    corrected_wrong: usize,
+    fail: usize,
+}
+
+impl Counts {
+    fn add(&mut self, j: &JointResult) {
+        self.total += 1;
+        match j.outcome {
+            CheckOutcome::Pass => self.pass += 1,
+            CheckOutcome::Warn => self.corrected += 1,
+            CheckOutcome::Fail | CheckOutcome::Skipped => self.fail += 1,
+        }
+        self.corrected_wrong += usize::from(j.corrected_wrong);
+    }
+
+    fn row(&self, key: &str) -> String {
+        format!(
+            "| {key} | {} | {} | {} | {} | {} | {} |\n",
+            self.total,
+            self.pass,
+            self.corrected,
+            self.corrected_wrong,
+            self.fail,
+            pct(self.pass, self.total)
+        )
+    }
+}
+
+fn true_joint_table(results: &Results, key: impl Fn(&JointResult) -> String, by: &str) -> String {
+    let mut rows: BTreeMap<String, Counts> = BTreeMap::new();
+    let mut all = Counts::default();
+    for (_, _, j) in joints(results) {
+        rows.entry(key(j)).or_default().add(j);
+        all.add(j);
+    }
+    let mut out = format!(
+        "## True joints given to the verifier as a grounder's, by {by}\n\n| {by} | joints | pass unchanged | corrected | corrected to a wrong joint | failed | pass % |\n|---|---:|---:|---:|---:|---:|---:|\n"
+    );
+    for (k, r) in &rows {
+        out.push_str(&r.row(k));
+    }
+    out.push_str(&all.row("**all**"));
+    out.push('\n');
+    out
+}
+
+fn failure_list(results: &Results) -> String {
+    let mut out = String::from(
+        "## True joints not passed unchanged\n\n| object | category | joint | kind | label | outcome | why |\n|---|---|---|---|---|---|---|\n",
+    );
+    for (name, o, j) in joints(results).filter(|(_, _, j)| !j.passed_unchanged()) {
+        let _ = writeln!(
+            out,
+            "| {name} | {} | {} | {} | {} | {:?}{} | {} |",
+            o.category,
+            j.joint,
+            kind_name(j.kind),
+            j.label,
+            j.outcome,
+            if j.corrected_wrong { " (wrong)" } else { "" },
+            j.message.replace('|', "/")
+        );
+    }
+    for (name, r) in results {
+        if let Err(e) = r {
+            let _ = writeln!(
+                out,
+                "| {name} | | | | | skipped | {} |",
+                format!("{e:#}").replace('|', "/")
+            );
+        }
+    }
+    out.push('\n');
+    out
+}
+
+fn breakage_table(results: &Results) -> String {
+    let mut out = String::from(
+        "## True joints broken on purpose\n\n| breakage | joints | caught | caught % | restored to the truth | restored % |\n|---|---:|---:|---:|---:|---:|\n",
+    );
+    let (mut total, mut caught, mut restored) = (0, 0, 0);
+    for b in Breakage::ALL {
+        let rows: Vec<_> = joints(results)
+            .flat_map(|(_, _, j)| j.breakages.iter())
+            .filter(|r| r.breakage == b)
+            .collect();
+        let c = rows.iter().filter(|r| r.caught).count();
+        let r = rows.iter().filter(|r| r.restored).count();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {c} | {} | {r} | {} |",
+            b.name(),
+            rows.len(),
+            pct(c, rows.len()),
+            pct(r, rows.len())
+        );
+        total += rows.len();
+        caught += c;
+        restored += r;
+    }
+    let _ = writeln!(
+        out,
+        "| **all** | {total} | {caught} | {} | {restored} | {} |\n",
+        pct(caught, total),
+        pct(restored, total)
+    );
+    out
+}
+
+fn pivot_table(results: &Results) -> String {
+    let mut by_kind: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    let mut missing = 0;
+    for (_, _, j) in joints(results) {
+        if !matches!(j.kind, JointKind::Revolute | JointKind::Continuous) {
+            continue;
+        }
+        match j.nearest_pivot_model {
+            Some(d) => {
+                by_kind.entry(kind_name(j.kind)).or_default().push(d);
+                by_kind.entry("**all**").or_default().push(d);
+            }
+            None => missing += 1,
+        }
+    }
+    let mut out = format!(
+        "## Nearest pivot candidate to the true axis line ([0,2] frame)\n\n{missing} rotating joints without candidates.\n\n| kind | joints | within {PIVOT_TARGET_MODEL} | % | median | max |\n|---|---:|---:|---:|---:|---:|\n"
+    );
+    for (k, ds) in &mut by_kind {
+        ds.sort_by(f64::total_cmp);
+        let within = ds.iter().filter(|&&d| d <= PIVOT_TARGET_MODEL).count();
+        let _ = writeln!(
+            out,
+            "| {k} | {} | {within} | {} | {:.4} | {:.4} |",
+            ds.len(),
+            pct(within, ds.len()),
+            ds[ds.len() / 2],
+            ds[ds.len() - 1]
+        );
+    }
+    out.push('\n');
+    out
+}
+
+fn time_line(results: &Results) -> String {
+    let mut times: Vec<f64> = results
+        .iter()
+        .filter_map(|(_, r)| r.as_ref().ok().map(|o| o.seconds))
+        .collect();
+    if times.is_empty() {
+        return String::new();
+    }
+    times.sort_by(f64::total_cmp);
+    format!(
+        "Time per object (ingest, colliders, every sweep and correction): median {:.1} s, max {:.1} s\n",
+        times[times.len() / 2],
+        times[times.len() - 1]
+    )
+}
+
+/// Every joint's outcome as JSON.
+pub(crate) fn json(results: &Results) -> serde_json::Value {
+    let rows: Vec<serde_json::Value> = joints(results)
+        .map(|(name, o, j)| {
+            json!({
+                "object": name,
+                "category": o.category,
+                "joint": j.joint,
+                "kind": kind_name(j.kind),
+                "label": j.label,
+                "outcome": format!("{:?}", j.outcome),
+                "corrected_wrong": j.corrected_wrong,
+                "message": j.message,
+                "nearest_pivot_model": j.nearest_pivot_model,
+                "breakages": j.breakages.iter().map(|b| json!({
+                    "breakage": b.breakage.name(),
+                    "caught": b.caught,
+                    "restored": b.restored,
+                    "message": b.message,
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    json!({ "joints": rows })
+}
