@@ -125,12 +125,15 @@ fn mean(points: &[DVec3]) -> DVec3 {
     points.iter().sum::<DVec3>() / points.len().max(1) as f64
 }
 
-/// Penalty of a sweep: interpenetration (depth relative to the tolerance, and how often), lost
-/// contact (heavier for hinges), no contact at all.
+/// Penalty of a sweep: the moving surface passing through other parts (the verifier's
+/// verdict, relative to its limit), interpenetration of the convex colliders (depth relative to
+/// the tolerance, and how often; half weight, since hulls fill cavities), lost contact (heavier
+/// for hinges), no contact at all.
 fn sweep_penalty(m: &SweepMetrics, diagonal_m: f64, params: &SweepParams) -> f64 {
     let steps = m.steps.max(1) as f64;
     let tolerance = params.penetration_tolerance_fraction * diagonal_m;
-    let depth = (m.max_penetration_growth_m / tolerance).min(10.0);
+    let crossing = 5.0 * (m.crossed_fraction / params.crossing_fraction_max).min(4.0);
+    let depth = 0.5 * (m.max_penetration_growth_m / tolerance).min(10.0) + crossing;
     let penetrating = m.penetrating_steps as f64 / steps;
     let lost = m.lost_contact_steps as f64 / steps;
     let rotational = m.kind != JointKind::Prismatic;
@@ -139,7 +142,7 @@ fn sweep_penalty(m: &SweepMetrics, diagonal_m: f64, params: &SweepParams) -> f64
     } else {
         0.0
     };
-    depth + 5.0 * penetrating + if rotational { 5.0 } else { 2.0 } * lost + no_contact
+    depth + 2.5 * penetrating + if rotational { 5.0 } else { 2.0 } * lost + no_contact
 }
 
 /// Angle from `a` to the nearest of the part's principal axes (sign ignored), radians.
