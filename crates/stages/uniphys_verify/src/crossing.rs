@@ -126,14 +126,7 @@ impl Crossings {
             .iter()
             .filter(|&&p| {
                 scene.surfaces.bounds(p).is_some_and(|b| {
-                    reaches(
-                        motion,
-                        centre,
-                        radius,
-                        range,
-                        b.center(),
-                        b.diagonal() / 2.0,
-                    )
+                    motion.may_reach(centre, radius, range, b.center(), b.diagonal() / 2.0)
                 })
             })
             .map(|&p| (p, 0))
@@ -218,38 +211,6 @@ impl Crossings {
             .filter(|(_, hits)| *hits > 0)
             .max_by_key(|(p, hits)| (*hits, std::cmp::Reverse(*p)))
             .map(|(p, _)| *p)
-    }
-}
-
-/// Whether a moving sphere (`centre`, `radius`) moved by `motion` over `range` can come within
-/// reach of a still sphere: a turning sphere stays inside the sphere about the foot of its centre
-/// on the axis, a sliding one inside the capsule it sweeps.
-fn reaches(
-    motion: &JointMotion,
-    centre: DVec3,
-    radius: f64,
-    range: (f64, f64),
-    other: DVec3,
-    other_radius: f64,
-) -> bool {
-    let axis = motion.axis_in_object;
-    match motion.kind {
-        uniphys_types::JointKind::Prismatic => {
-            let start = centre + axis * range.0;
-            let d = axis * (range.1 - range.0);
-            let t = if d.length_squared() > 0.0 {
-                ((other - start).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (start + d * t).distance(other) <= radius + other_radius
-        }
-        uniphys_types::JointKind::Fixed => centre.distance(other) <= radius + other_radius,
-        _ => {
-            let pivot = motion.pivot_in_object_m;
-            let foot = pivot + axis * (centre - pivot).dot(axis);
-            foot.distance(other) <= centre.distance(foot) + radius + other_radius
-        }
     }
 }
 

@@ -56,6 +56,43 @@ impl JointMotion {
     }
 }
 
+impl JointMotion {
+    /// Whether a moving sphere (`centre`, `radius`) moved over the coordinates `range` can come
+    /// near a still sphere (`other`, `other_radius`): a broad phase. A turning sphere stays
+    /// inside the sphere about the foot of its centre on the axis that contains it; a sliding
+    /// one inside the capsule it sweeps.
+    #[must_use]
+    pub fn may_reach(
+        &self,
+        centre: DVec3,
+        radius: f64,
+        range: (f64, f64),
+        other: DVec3,
+        other_radius: f64,
+    ) -> bool {
+        let reach = radius + other_radius;
+        let axis = self.axis_in_object;
+        match self.kind {
+            JointKind::Prismatic => {
+                let start = centre + axis * range.0;
+                let d = axis * (range.1 - range.0);
+                let t = if d.length_squared() > 0.0 {
+                    ((other - start).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (start + d * t).distance(other) <= reach
+            }
+            JointKind::Fixed => centre.distance(other) <= reach,
+            JointKind::Revolute | JointKind::Continuous => {
+                let pivot = self.pivot_in_object_m;
+                let foot = pivot + axis * (centre - pivot).dot(axis);
+                foot.distance(other) <= centre.distance(foot) + reach
+            }
+        }
+    }
+}
+
 /// `steps` evenly spaced coordinates from `lower` to `upper` inclusive (one step: `lower`).
 #[must_use]
 pub fn sweep_coordinates(lower: f64, upper: f64, steps: usize) -> Vec<f64> {

@@ -72,28 +72,13 @@ impl Colliders {
         upper: f64,
     ) -> bool {
         let (ha, hb) = (&self.hulls[a], &self.hulls[b]);
-        let reach = ha.radius_m + hb.radius_m;
-        let axis = motion.axis_in_object;
-        match motion.kind {
-            uniphys_types::JointKind::Prismatic => {
-                let start = ha.centre_m + axis * lower;
-                let end = ha.centre_m + axis * upper;
-                let d = end - start;
-                let t = if d.length_squared() > 0.0 {
-                    ((hb.centre_m - start).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (start + d * t).distance(hb.centre_m) <= reach
-            }
-            uniphys_types::JointKind::Fixed => ha.centre_m.distance(hb.centre_m) <= reach,
-            _ => {
-                let pivot = motion.pivot_in_object_m;
-                let foot = pivot + axis * (ha.centre_m - pivot).dot(axis);
-                let radius = ha.centre_m.distance(foot) + ha.radius_m;
-                foot.distance(hb.centre_m) <= radius + hb.radius_m
-            }
-        }
+        motion.may_reach(
+            ha.centre_m,
+            ha.radius_m,
+            (lower, upper),
+            hb.centre_m,
+            hb.radius_m,
+        )
     }
 
     /// The pose of the moving hulls at coordinate `q` in the shifted frame.
