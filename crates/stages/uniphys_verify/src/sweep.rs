@@ -151,8 +151,16 @@ pub struct SweepMetrics {
 /// Two deviations from the reference, which measures thickness across the initial plane and
 /// overlap as the share of a step's points near initial ones: both fail a laptop lid that closes
 /// onto its base (the contact grows from the hinge line to the whole face, which is correct);
-/// interpenetration, which those metrics stood in for, is measured directly on the colliders. Penetration: for each pair of a moving
-/// and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth at rest.
+/// interpenetration, which those metrics stood in for, is measured directly.
+///
+/// Crossings (the verdict on interpenetration): the moving surface samples clear of every other
+/// part at rest are followed outward from rest to each limit; one counts once it passes through
+/// another part's own triangles outside the space the moving samples filled at rest and goes
+/// deeper than the contact distance beyond them. Open shells and zero-thickness panels are judged
+/// as they are, what overlapped at rest is not new, and a round part turning in place crosses
+/// nothing new. Collider penetration (a measure for the grounder, not a verdict): for each pair
+/// of a moving and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth
+/// at rest. Shape fit: how the child sits on a turning axis ([`TurnFit`]).
 ///
 /// Errors: a fixed joint, a joint without limits (other than continuous), parts out of range.
 pub fn sweep(
