@@ -16,7 +16,6 @@ mod candidates;
 mod correct;
 mod crossing;
 mod error;
-mod fit;
 mod intrinsic;
 mod motion;
 mod patch;
@@ -32,7 +31,6 @@ pub use candidates::{
 };
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
-pub use fit::TurnFit;
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use patch::{PatchParams, grow_patch};

@@ -7,7 +7,6 @@ use uniphys_geometry::{DVec3, KdTree, fit_plane};
 use uniphys_types::{Joint, JointKind};
 
 use crate::crossing::Crossings;
-use crate::fit::TurnFit;
 use crate::motion::{JointMotion, sweep_coordinates};
 use crate::patch::{PatchParams, grow_patch, mean_spacing_m};
 use crate::scene::Scene;
@@ -41,17 +40,12 @@ pub struct SweepParams {
     pub rest_contact_part_fraction: f64,
     /// Upper bound of that contact distance, a fraction of the object diagonal.
     pub rest_contact_object_fraction: f64,
-    /// A turning part whose centroid is closer to the axis than this fraction of its reach turns
-    /// about its middle: it must be round about the axis.
-    pub middle_ratio_max: f64,
-    /// A part whose box is thinner than this fraction of its size is a panel: it must not turn
-    /// about its own normal unless round.
-    pub panel_thinness_max: f64,
-    /// An axis within this angle of a panel's normal is about the normal, radians.
-    pub normal_axis_angle_max_rad: f64,
-    /// A part whose turned copies lie within this mean distance of itself (a fraction of its
-    /// size) is round about the axis.
-    pub roundness_max: f64,
+    /// A slide whose travel is at most this fraction of the moving group's extent along its axis
+    /// is short (a button, a key, a cap's lift): it must stay at its parent all the way.
+    pub short_slide_fraction: f64,
+    /// How far a short slide's moving group may move away from its parent beyond its gap at
+    /// rest, as a fraction of the group's diagonal.
+    pub short_slide_gap_fraction: f64,
     /// Seed of the candidate search of corrections.
     pub seed: u64,
 }
@@ -71,10 +65,8 @@ impl Default for SweepParams {
             crossing_fraction_max: 0.02,
             rest_contact_part_fraction: 0.03,
             rest_contact_object_fraction: 0.01,
-            middle_ratio_max: 0.2,
-            panel_thinness_max: 0.25,
-            normal_axis_angle_max_rad: std::f64::consts::FRAC_PI_6,
-            roundness_max: 0.02,
+            short_slide_fraction: 0.5,
+            short_slide_gap_fraction: 0.1,
             seed: 7,
         }
     }
@@ -134,8 +126,11 @@ pub struct SweepMetrics {
     pub hinge_mean_to_parent_m: f64,
     /// Largest contact threshold a step may need before it counts as contact lost, metres.
     pub contact_reach_m: f64,
-    /// Turning joints: how the child sits on its axis (`None` for slides).
-    pub turn_fit: Option<TurnFit>,
+    /// Short slides: the largest growth over the sweep of the gap between the moving group and
+    /// its parent, metres (0 for other joints).
+    pub short_slide_gap_growth_m: f64,
+    /// Short slides: the gap growth allowed, metres (0 for other joints).
+    pub short_slide_gap_max_m: f64,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -160,7 +155,7 @@ pub struct SweepMetrics {
 /// as they are, what overlapped at rest is not new, and a round part turning in place crosses
 /// nothing new. Collider penetration (a measure for the grounder, not a verdict): for each pair
 /// of a moving and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth
-/// at rest. Shape fit: how the child sits on a turning axis ([`TurnFit`]).
+/// at rest.
 ///
 /// Errors: a fixed joint, a joint without limits (other than continuous), parts out of range.
 pub fn sweep(
@@ -258,15 +253,32 @@ pub fn sweep(
         hinge_mean_to_parent_m: hinge.1,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
-        turn_fit: matches!(joint.kind, JointKind::Revolute | JointKind::Continuous)
-            .then(|| {
-                let child = joint.child.0 as usize;
-                let samples = &scene.samples[child];
-                let spacing = (scene.areas_m2[child] / samples.len().max(1) as f64).sqrt();
-                TurnFit::of(samples, spacing, &motion)
-            })
-            .flatten(),
+        short_slide_gap_growth_m: 0.0,
+        short_slide_gap_max_m: 0.0,
     };
+    // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
+    // followed against the one at rest.
+    let short_slide = (joint.kind == JointKind::Prismatic).then(|| {
+        let (lo, hi) = moving_points
+            .iter()
+            .map(|p| p.dot(motion.axis_in_object))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+                (a.min(t), b.max(t))
+            });
+        let bounds = moving_points
+            .iter()
+            .fold(uniphys_geometry::Aabb::EMPTY, |b, p| {
+                b.union(uniphys_geometry::Aabb { min: *p, max: *p })
+            });
+        let travel = lower.abs().max(upper.abs());
+        (travel <= params.short_slide_fraction * (hi - lo))
+            .then(|| params.short_slide_gap_fraction * bounds.diagonal())
+    });
+    let gap_at_rest = match short_slide {
+        Some(Some(_)) => nearest_gap_m(parent_points, &KdTree::new(moving_points.clone())),
+        _ => 0.0,
+    };
+    metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
     let mut crossings = Crossings::new(
         scene,
         &moving_points,
@@ -319,10 +331,15 @@ pub fn sweep(
         {
             metrics.crossing_coordinate = Some(q);
         }
+        let moved_tree = KdTree::new(moved);
+        if metrics.short_slide_gap_max_m > 0.0 {
+            let growth = nearest_gap_m(parent_points, &moved_tree) - gap_at_rest;
+            metrics.short_slide_gap_growth_m = metrics.short_slide_gap_growth_m.max(growth);
+        }
         if let Some(reference) = &reference {
             let found = grow_patch(
                 parent_points,
-                &KdTree::new(moved),
+                &moved_tree,
                 reference.threshold_m,
                 step,
                 patch.max_step_increments,
@@ -384,9 +401,6 @@ fn hinge_to_parent_m(
     )
 }
 
-/// Severity of a shape that does not fit its turning (no range change fixes it).
-const SHAPE_MISFIT_SEVERITY: f64 = 3.0;
-
 /// Points sampled along a hinge line.
 const HINGE_SAMPLES: usize = 20;
 
@@ -436,6 +450,14 @@ impl ContactReference {
     }
 }
 
+/// The smallest distance from `points` to the points in `tree`, metres.
+fn nearest_gap_m(points: &[DVec3], tree: &KdTree) -> f64 {
+    points
+        .iter()
+        .map(|p| tree.nearest_distance(*p))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Spread of points across their least-squares plane, metres.
 fn thickness_m(points: &[DVec3]) -> VerifyResult<f64> {
     let plane = fit_plane(points)?;
@@ -462,8 +484,7 @@ impl SweepMetrics {
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
-    /// - turning joints: the child turns about an axis through its middle, or a panel about its
-    ///   own normal, and is not round about the axis;
+    /// - short slides: the part moves away from its parent (a button pulled out);
     /// - any joint: the 95th percentile thickness ratio above `thickness_ratio_max`;
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
     ///   at rest passes through another part's surface, outside the space the moving parts filled
@@ -497,8 +518,11 @@ impl SweepMetrics {
                 self.thickness_ratio_p95
             ));
         }
-        if let Some(misfit) = self.shape_misfit(params) {
-            reasons.push(misfit);
+        if self.short_slide_left_parent() {
+            reasons.push(format!(
+                "a short slide leaves its parent: {:.4} m further away than at rest (at most {:.4} m)",
+                self.short_slide_gap_growth_m, self.short_slide_gap_max_m
+            ));
         }
         if self.crossed_fraction > params.crossing_fraction_max {
             let part = self
@@ -517,8 +541,8 @@ impl SweepMetrics {
     /// How badly the joint fails, comparable across variants of one joint: the largest of each
     /// rule's measure over its limit (crossed fraction, thickness ratio; when they fail, lost
     /// contact of a turning joint counts 1 plus ten times its share of steps, a severe overlap
-    /// change 1 plus five times its excess of bad steps, a shape that does not fit the turning 3;
-    /// 10 without contact at rest). At most 1 when the sweep passes.
+    /// change 1 plus five times its excess of bad steps, a short slide leaving its parent 1 plus
+    /// its gap over the allowed one; 10 without contact at rest). At most 1 when the sweep passes.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -538,36 +562,16 @@ impl SweepMetrics {
         {
             s = s.max(1.0 + 5.0 * (self.bad_overlap_fraction - params.bad_overlap_fraction_max));
         }
-        if self.shape_misfit(params).is_some() {
-            s = s.max(SHAPE_MISFIT_SEVERITY);
+        if self.short_slide_left_parent() {
+            s = s.max(1.0 + self.short_slide_gap_growth_m / self.short_slide_gap_max_m);
         }
         s
     }
 
-    /// Why the child's shape does not fit its turning, if it does not: an axis through its
-    /// middle or along a panel's normal, and the part not round about it.
-    fn shape_misfit(&self, params: &SweepParams) -> Option<String> {
-        let fit = self.turn_fit?;
-        if fit.round(params.roundness_max) {
-            return None;
-        }
-        if fit.offcentre_ratio < params.middle_ratio_max {
-            return Some(format!(
-                "turns about an axis through its middle (centroid at {:.0} % of its reach from the axis) but is not round about it (mismatch {:.3})",
-                100.0 * fit.offcentre_ratio,
-                fit.roundness_error
-            ));
-        }
-        if fit.thinness < params.panel_thinness_max
-            && fit.axis_to_thin_rad < params.normal_axis_angle_max_rad
-        {
-            return Some(format!(
-                "a panel (thickness {:.0} % of its size) turning about its own normal, {:.0} degrees off it, and not round about it",
-                100.0 * fit.thinness,
-                fit.axis_to_thin_rad.to_degrees()
-            ));
-        }
-        None
+    /// A short slide moved its part away from its parent by more than it may.
+    fn short_slide_left_parent(&self) -> bool {
+        self.short_slide_gap_max_m > 0.0
+            && self.short_slide_gap_growth_m > self.short_slide_gap_max_m
     }
 
     /// A turning joint lost contact with its parent: some step found no contact patch, and the
@@ -616,18 +620,10 @@ impl SweepMetrics {
             ("crossed_fraction", self.crossed_fraction),
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
+            ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
         ];
-        let fit = self.turn_fit.map(|f| {
-            [
-                ("axis_offcentre_ratio", f.offcentre_ratio),
-                ("part_thinness", f.thinness),
-                ("axis_to_thin_direction_rad", f.axis_to_thin_rad),
-                ("roundness_error", f.roundness_error),
-            ]
-        });
         entries
             .into_iter()
-            .chain(fit.into_iter().flatten())
             .map(|(k, v)| (k.to_owned(), v))
             .collect()
     }
