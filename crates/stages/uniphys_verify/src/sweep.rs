@@ -40,8 +40,8 @@ pub struct SweepParams {
     pub rest_contact_part_fraction: f64,
     /// Upper bound of that contact distance, a fraction of the object diagonal.
     pub rest_contact_object_fraction: f64,
-    /// A slide whose travel is at most this fraction of the moving group's extent along its axis
-    /// is short (a button, a key, a cap's lift): it must stay at its parent all the way.
+    /// A slide whose travel is at most this fraction of its parent's diagonal is short (a button,
+    /// a key, a cap's lift): it must stay at its parent all the way.
     pub short_slide_fraction: f64,
     /// How far a short slide's moving group may move away from its parent beyond its gap at
     /// rest, as a fraction of the group's diagonal.
@@ -65,7 +65,7 @@ impl Default for SweepParams {
             crossing_fraction_max: 0.02,
             rest_contact_part_fraction: 0.03,
             rest_contact_object_fraction: 0.01,
-            short_slide_fraction: 0.5,
+            short_slide_fraction: 0.05,
             short_slide_gap_fraction: 0.1,
             seed: 7,
         }
@@ -259,23 +259,20 @@ pub fn sweep(
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
     let short_slide = (joint.kind == JointKind::Prismatic).then(|| {
-        let (lo, hi) = moving_points
-            .iter()
-            .map(|p| p.dot(motion.axis_in_object))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
-                (a.min(t), b.max(t))
-            });
-        let bounds = moving_points
-            .iter()
-            .fold(uniphys_geometry::Aabb::EMPTY, |b, p| {
-                b.union(uniphys_geometry::Aabb { min: *p, max: *p })
-            });
+        let span = |points: &[DVec3]| {
+            points
+                .iter()
+                .fold(uniphys_geometry::Aabb::EMPTY, |b, p| {
+                    b.union(uniphys_geometry::Aabb { min: *p, max: *p })
+                })
+                .diagonal()
+        };
         let travel = lower.abs().max(upper.abs());
-        (travel <= params.short_slide_fraction * (hi - lo))
-            .then(|| params.short_slide_gap_fraction * bounds.diagonal())
+        (travel <= params.short_slide_fraction * span(parent_points))
+            .then(|| params.short_slide_gap_fraction * span(&moving_points))
     });
     let gap_at_rest = match short_slide {
-        Some(Some(_)) => nearest_gap_m(parent_points, &KdTree::new(moving_points.clone())),
+        Some(Some(_)) => gap_to_parent_m(scene, parent, &moving_points),
         _ => 0.0,
     };
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
@@ -331,11 +328,11 @@ pub fn sweep(
         {
             metrics.crossing_coordinate = Some(q);
         }
-        let moved_tree = KdTree::new(moved);
         if metrics.short_slide_gap_max_m > 0.0 {
-            let growth = nearest_gap_m(parent_points, &moved_tree) - gap_at_rest;
+            let growth = gap_to_parent_m(scene, parent, &moved) - gap_at_rest;
             metrics.short_slide_gap_growth_m = metrics.short_slide_gap_growth_m.max(growth);
         }
+        let moved_tree = KdTree::new(moved);
         if let Some(reference) = &reference {
             let found = grow_patch(
                 parent_points,
@@ -450,11 +447,12 @@ impl ContactReference {
     }
 }
 
-/// The smallest distance from `points` to the points in `tree`, metres.
-fn nearest_gap_m(points: &[DVec3], tree: &KdTree) -> f64 {
+/// The smallest distance from `points` (every fourth) to the surface of `parent`, metres.
+fn gap_to_parent_m(scene: &Scene, parent: usize, points: &[DVec3]) -> f64 {
     points
         .iter()
-        .map(|p| tree.nearest_distance(*p))
+        .step_by(4)
+        .map(|p| scene.surfaces.distance_m(parent, *p))
         .fold(f64::INFINITY, f64::min)
 }
 
