@@ -7,6 +7,7 @@ use parry3d::query::{PointQuery, Ray, RayCast};
 use uniphys_geometry::{Aabb, DVec3, KdTree, TriMesh};
 
 use crate::motion::JointMotion;
+use crate::penetration::to_f32;
 use crate::scene::Scene;
 use crate::sweep::SweepParams;
 
@@ -212,10 +213,6 @@ impl Crossings {
             .max_by_key(|(p, hits)| (*hits, std::cmp::Reverse(*p)))
             .map(|(p, _)| *p)
     }
-}
-
-fn to_f32(p: DVec3) -> Vector {
-    Vector::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
 #[cfg(test)]

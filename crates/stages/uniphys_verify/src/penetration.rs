@@ -105,7 +105,8 @@ impl Colliders {
     }
 }
 
-fn to_f32(p: DVec3) -> Vector {
+/// A point in parry's `f32` vectors.
+pub(crate) fn to_f32(p: DVec3) -> Vector {
     Vector::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
