@@ -1,15 +1,18 @@
 //! Verification of grounded assets (stage 6 of the product):
 //!
 //! - intrinsic checks per part and object, levels 0-4 of the reference ([`verify_intrinsic`]);
-//! - articulation sweeps: each joint moved through its range, contact with its parent and
-//!   interpenetration of convex colliders measured with parry ([`sweep`], [`Scene`]);
-//! - feedback correction of failed joints ([`correct_joint`]) from the articulation candidates
-//!   of the contact geometry ([`articulation_candidates`]), also used by grounders to enumerate
-//!   hypotheses;
+//! - articulation sweeps: each joint moved through its range; contact with its parent, the
+//!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
+//!   gap to its parent, and interpenetration of convex colliders (a measure for grounders)
+//!   ([`sweep`], [`Scene`]);
+//! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
+//!   [`correct_joint`]) from the articulation candidates of the contact geometry and the part's
+//!   edge lines ([`articulation_candidates`], [`edge_pivots`]), also used by grounders to
+//!   enumerate hypotheses;
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
-//! Every distance threshold is a fraction of the object's diagonal, so results do not depend on
-//! the object's scale or pose.
+//! Distance thresholds are fractions of the object's diagonal or of the parts involved, so
+//! results do not depend on the object's scale or pose.
 
 mod articulation;
 mod candidates;
