@@ -72,7 +72,7 @@ fn bench(args: &Args) -> anyhow::Result<()> {
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         eprint!("[{}/{}] {name} ... ", i + 1, dirs.len());
-        let result = object::judge_object(dir, &name, !args.no_breakage);
+        let result = object::judge_object(dir, !args.no_breakage);
         match &result {
             Ok(r) => eprintln!(
                 "{} joints, {} pass, {:.1} s",

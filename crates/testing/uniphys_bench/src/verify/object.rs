@@ -59,13 +59,8 @@ pub(crate) struct ObjectResult {
 }
 
 /// Ingests the object at `dir`, builds its colliders and scene, and judges its joints.
-pub(crate) fn judge_object(
-    dir: &Path,
-    name: &str,
-    breakages: bool,
-) -> anyhow::Result<ObjectResult> {
+pub(crate) fn judge_object(dir: &Path, breakages: bool) -> anyhow::Result<ObjectResult> {
     let start = Instant::now();
-    let _ = name;
     let mut loaded = load_asset(dir, &IngestOptions::default())?;
     loaded.asset.rest_on_ground();
     let asset = loaded.asset;
