@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use uniphys_types::{CheckOutcome, CheckResult, Joint, ReportSection};
 
 use crate::VerifyResult;
-use crate::correct::correct_joint;
+use crate::correct::correct_failed;
 use crate::scene::{Scene, moving_group};
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
 
@@ -136,7 +136,7 @@ pub fn verify_joint(
             metrics,
         });
     }
-    if correct && let Some(fix) = correct_joint(scene, joint, &moving, params)? {
+    if correct && let Some(fix) = correct_failed(scene, joint, &moving, params, &metrics)? {
         let message = format!("{}; corrected: {}", reasons.join("; "), fix.change);
         return Ok(JointVerdict {
             correction: Some((fix.joint, fix.change)),

@@ -52,13 +52,24 @@ pub fn correct_joint(
     params: &SweepParams,
 ) -> VerifyResult<Option<Correction>> {
     let original = sweep(scene, joint, moving, params)?;
+    correct_failed(scene, joint, moving, params, &original)
+}
+
+/// [`correct_joint`] for a joint whose full sweep (`original`) was already run.
+pub(crate) fn correct_failed(
+    scene: &Scene,
+    joint: &Joint,
+    moving: &[usize],
+    params: &SweepParams,
+    original: &SweepMetrics,
+) -> VerifyResult<Option<Correction>> {
     let nearly_passed = original.severity(params) <= NEARLY_PASSED_SEVERITY;
     let screen = SweepParams {
         steps: SCREEN_STEPS,
         ..*params
     };
     let rank = |m: &SweepMetrics, p: &SweepParams| preference(m, p, scene.diagonal_m);
-    for tier in tiers(scene, joint, moving, params, &original, nearly_passed) {
+    for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
         let mut screened: Vec<((i64, f64), usize)> = Vec::new();
         for (k, variant) in tier.iter().enumerate() {
             let m = sweep(scene, &variant.joint, moving, &screen)?;

@@ -118,9 +118,7 @@ impl Crossings {
         range: (f64, f64),
         params: &SweepParams,
     ) -> Self {
-        let bounds = moving_points
-            .iter()
-            .fold(Aabb::EMPTY, |b, p| b.union(Aabb { min: *p, max: *p }));
+        let bounds = Aabb::from_points(moving_points);
         let centre = bounds.center();
         let radius = bounds.diagonal() / 2.0;
         let near: Vec<(usize, usize)> = still

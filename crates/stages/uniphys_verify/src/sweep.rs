@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use uniphys_geometry::{DVec3, KdTree, fit_plane};
+use uniphys_geometry::{Aabb, DVec3, KdTree, fit_plane};
 use uniphys_types::{Joint, JointKind};
 
 use crate::crossing::Crossings;
@@ -259,14 +259,7 @@ pub fn sweep(
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
     let short_slide = (joint.kind == JointKind::Prismatic).then(|| {
-        let span = |points: &[DVec3]| {
-            points
-                .iter()
-                .fold(uniphys_geometry::Aabb::EMPTY, |b, p| {
-                    b.union(uniphys_geometry::Aabb { min: *p, max: *p })
-                })
-                .diagonal()
-        };
+        let span = |points: &[DVec3]| Aabb::from_points(points).diagonal();
         let travel = lower.abs().max(upper.abs());
         (travel <= params.short_slide_fraction * span(parent_points))
             .then(|| params.short_slide_gap_fraction * span(&moving_points))
