@@ -1,5 +1,6 @@
-//! The benchmark's assets: the example assets (written as GLB, ground truth from memory) and
-//! PyBullet's data URDFs with movable joints (ground truth from the URDF itself).
+//! The benchmark's assets: the example assets (written as GLB, ground truth from memory),
+//! PyBullet's data URDFs with movable joints (ground truth from the URDF itself) and real
+//! PartNet-Mobility objects with their part labels hidden (ground truth from the original URDF).
 
 use std::path::{Path, PathBuf};
 
@@ -25,16 +26,10 @@ pub(crate) struct BenchAsset {
     pub input: PathBuf,
     /// Its ground truth.
     pub ground_truth: GroundTruth,
-}
-
-impl BenchAsset {
     /// The group the asset is reported in.
-    pub(crate) fn group(&self) -> &'static str {
-        match self.ground_truth {
-            GroundTruth::Example(_) => "example assets",
-            GroundTruth::Urdf(_) => "PyBullet URDFs",
-        }
-    }
+    pub group: &'static str,
+    /// Object category (PartNet-Mobility's `INDEX.tsv`), for per-category rows; empty if none.
+    pub category: String,
 }
 
 /// An asset left out, and why.
@@ -55,7 +50,7 @@ pub(crate) fn collect(
     let mut assets = Vec::new();
     let mut skipped = Vec::new();
     for example in uniphys_examples::catalogue() {
-        if !wanted(example.name) {
+        if args.no_examples || !wanted(example.name) {
             continue;
         }
         let path = scratch.join(format!("{}.glb", example.name));
@@ -67,6 +62,8 @@ pub(crate) fn collect(
             name: example.name.to_owned(),
             input: path,
             ground_truth: GroundTruth::Example(Box::new(example.asset)),
+            group: "example assets",
+            category: String::new(),
         });
     }
     if let Some(root) = &args.pybullet_data {
@@ -84,9 +81,22 @@ pub(crate) fn collect(
                     name,
                     input: path.clone(),
                     ground_truth: GroundTruth::Urdf(path),
+                    group: "PyBullet URDFs",
+                    category: String::new(),
                 }),
                 Err(reason) => skipped.push(Skipped { name, reason }),
             }
+        }
+    }
+    if let Some(root) = &args.partnet {
+        for copy in crate::partnet::hidden_copies(root, &scratch.join("partnet"), &wanted)? {
+            assets.push(BenchAsset {
+                name: copy.name,
+                input: copy.input,
+                ground_truth: GroundTruth::Urdf(copy.original),
+                group: "PartNet-Mobility, labels hidden",
+                category: copy.category,
+            });
         }
     }
     Ok((assets, skipped))

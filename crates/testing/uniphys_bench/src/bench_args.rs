@@ -11,6 +11,16 @@ pub(crate) struct BenchArgs {
     /// its URDFs with revolute, prismatic or continuous joints join the example assets.
     #[arg(long)]
     pub pybullet_data: Option<PathBuf>,
+    /// A folder of PartNet-Mobility objects (`../shared/data/partnet-mobility`); each is copied
+    /// without its part labels (see `partnet`) and joins the benchmark.
+    #[arg(long)]
+    pub partnet: Option<PathBuf>,
+    /// Leave out the example assets (with `--partnet`, real objects only).
+    #[arg(long)]
+    pub no_examples: bool,
+    /// Only the upright pose (no rotated pass).
+    #[arg(long)]
+    pub upright_only: bool,
     /// Skip assets with more triangles than this (30 000 keeps the run to about four minutes in
     /// release: it leaves out the full-resolution Laikago variants, their low-res one stays).
     #[arg(long, default_value_t = 30_000)]

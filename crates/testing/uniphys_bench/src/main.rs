@@ -1,11 +1,14 @@
 //! `articulation-bench`: the articulated assets the project has (the example assets and, when
-//! given, PyBullet's data URDFs with movable joints) with their joints stripped, run through
+//! given, PyBullet's data URDFs with movable joints and real PartNet-Mobility objects with their
+//! part labels hidden) with their joints stripped, run through
 //! `uniphys_pipeline::run` (whatever grounder is on this build), scored with the paper's
 //! kinematic metrics against their own joints, upright and with each asset randomly rotated;
 //! Markdown tables next to the paper's PartNet-Mobility rows.
 
 mod assets;
 mod bench_args;
+mod joint_tables;
+mod partnet;
 mod pose_run;
 mod tables;
 
@@ -38,9 +41,15 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     );
     println!("# Articulation benchmark: joints stripped, built-in grounder, paper metrics\n");
     let mut all_skipped = skipped;
-    for pose in [Pose::Upright, Pose::Rotated { seed: args.seed }] {
+    let poses = if args.upright_only {
+        vec![Pose::Upright]
+    } else {
+        vec![Pose::Upright, Pose::Rotated { seed: args.seed }]
+    };
+    for pose in poses {
         let result = run_pose(&assets, pose, args);
         println!("{}", tables::pose_section(pose, &result));
+        println!("{}", joint_tables::joint_sections(&result));
         all_skipped.extend(result.skipped);
     }
     println!("{}", tables::skipped_section(&all_skipped));

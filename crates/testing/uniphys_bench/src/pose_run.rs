@@ -44,6 +44,10 @@ pub(crate) struct AssetRow {
     pub report: EvalReport,
     /// Wall time of the pipeline run.
     pub run_time: Duration,
+    /// Object category, empty if none.
+    pub category: String,
+    /// The prediction and its ground truth, for the per-joint tables.
+    pub pair: (AnnotatedAsset, AnnotatedAsset),
 }
 
 /// The outcome of one pose.
@@ -68,8 +72,15 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
     let mut groups: Vec<(&'static str, Vec<(AnnotatedAsset, AnnotatedAsset)>)> = Vec::new();
     let mut skipped = Vec::new();
     for (index, asset) in assets.iter().enumerate() {
+        // The triangle cap keeps the synthetic and PyBullet run short; real objects are
+        // judged at their full resolution, as a user would run them.
+        let max_triangles = if asset.category.is_empty() {
+            args.max_triangles
+        } else {
+            IngestOptions::default().max_triangles
+        };
         let ingest = IngestOptions {
-            max_triangles: args.max_triangles,
+            max_triangles,
             ignore_joints: true,
             rotation: pose.rotation(index),
             ..IngestOptions::default()
@@ -85,10 +96,12 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
                     name: asset.name.clone(),
                     report,
                     run_time,
+                    category: asset.category.clone(),
+                    pair: (pred.clone(), gt.clone()),
                 });
-                match groups.iter_mut().find(|(g, _)| *g == asset.group()) {
+                match groups.iter_mut().find(|(g, _)| *g == asset.group) {
                     Some((_, list)) => list.push((pred.clone(), gt.clone())),
-                    None => groups.push((asset.group(), vec![(pred.clone(), gt.clone())])),
+                    None => groups.push((asset.group, vec![(pred.clone(), gt.clone())])),
                 }
                 pairs.push((pred, gt));
             }

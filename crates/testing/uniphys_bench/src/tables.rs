@@ -28,7 +28,7 @@ fn fixed(v: Option<f64>, decimals: usize) -> String {
 }
 
 /// The four paper metrics of a report as table cells.
-fn metric_cells(k: Option<&TaskReport>) -> String {
+pub(crate) fn metric_cells(k: Option<&TaskReport>) -> String {
     let get = |name: &str| k.and_then(|k| k.paper(name));
     format!(
         "{} | {} | {} | {}",
