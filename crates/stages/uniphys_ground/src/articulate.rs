@@ -12,6 +12,7 @@ use crate::dynamics::{RigidMass, joint_dynamics, max_stable_damping};
 use crate::hypotheses::{SCREEN_SAMPLES, Subject, best_joint};
 use crate::joint_geometry::{hinge, slide};
 use crate::roles::{Role, role_of};
+use crate::unnamed::unnamed_joints;
 use crate::{BUILTIN_PROVIDER, GroundError, GroundResult};
 
 /// What the articulation step needs to know about a part.
@@ -46,13 +47,28 @@ fn pid(i: usize) -> PartId {
 }
 
 /// Builds the articulation. With `declared` joints (an articulated input) they are kept and
-/// completed; otherwise part names say which parts slide or turn, and for each of them the joint
-/// is chosen among hypotheses from the contact geometry by sweeping them (see `hypotheses`).
+/// completed. Without, when no part name says that it slides or turns (`link_0`, `Mesh.002`,
+/// `handle`), the tree comes
+/// from size and contact and each joint from the part's shape and sweeps of its candidate
+/// motions (see `unnamed`); otherwise part names say which parts slide or turn, and for each of
+/// them the joint is chosen among hypotheses from the contact geometry by sweeping them (see
+/// `hypotheses`).
 pub fn articulate(parts: &[PartInput<'_>], declared: &[Joint]) -> GroundResult<Articulation> {
     if parts.is_empty() {
         return Err(GroundError::NoParts);
     }
-    let (root, mut joints, mut notes) = if declared.is_empty() {
+    // Without a name that says a part slides or turns, geometry alone decides.
+    let unnamed = parts.len() > 1
+        && parts
+            .iter()
+            .all(|p| !matches!(role_of(p.name).0, Role::Sliding | Role::Hinged));
+    let (root, mut joints, mut notes) = if declared.is_empty() && unnamed {
+        unnamed_joints(parts).unwrap_or_else(|e| {
+            let (root, joints, mut notes) = heuristic_joints(parts);
+            notes.push(format!("articulation sweeps unavailable: {e}"));
+            (root, joints, notes)
+        })
+    } else if declared.is_empty() {
         heuristic_joints(parts)
     } else {
         complete_declared(parts, declared)?
@@ -272,7 +288,7 @@ fn parent_is(k: usize, i: usize, roles: &[Role], parent: &[Option<usize>]) -> bo
 }
 
 /// Whether part `k` hangs (directly or through other parts) from part `i`.
-fn carried_by(k: usize, i: usize, parent: &[Option<usize>]) -> bool {
+pub(crate) fn carried_by(k: usize, i: usize, parent: &[Option<usize>]) -> bool {
     let mut at = parent[k];
     let mut hops = 0;
     while let Some(p) = at {
@@ -315,7 +331,12 @@ fn movable_joint(
     }
 }
 
-fn fixed_joint(parent: PartId, child: PartId, anchor: DVec3, provenance: Provenance) -> Joint {
+pub(crate) fn fixed_joint(
+    parent: PartId,
+    child: PartId,
+    anchor: DVec3,
+    provenance: Provenance,
+) -> Joint {
     Joint {
         name: String::new(),
         kind: JointKind::Fixed,
@@ -424,7 +445,7 @@ fn finish_joints(parts: &[PartInput<'_>], joints: &mut [Joint], notes: &mut Vec<
     }
 }
 
-fn kind_word(kind: JointKind) -> &'static str {
+pub(crate) fn kind_word(kind: JointKind) -> &'static str {
     match kind {
         JointKind::Revolute => "hinge",
         JointKind::Continuous => "spin",

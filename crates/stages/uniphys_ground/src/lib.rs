@@ -5,7 +5,10 @@
 //! - materials from glTF/MTL material names, then part names ([`ground_part`]);
 //! - properties from typical values of known subtypes or the centre of the material prior;
 //! - object name, category, dimensions and mass ([`object_properties`]);
-//! - joints: declared ones completed; otherwise part names say which parts slide or turn and the
+//! - joints: declared ones completed; for parts without meaningful names, the tree from size and
+//!   contact and each joint from the part's shape (round: spins; small: pushed; thin: hinged;
+//!   else slid) and sweeps of hinge lines and slides on its box, the range being the free range
+//!   ([`articulate`]); otherwise part names say which parts slide or turn and the
 //!   joint of each is chosen by sweeping hypotheses (candidate axes x pivots x direction from the
 //!   contact with its parent) and keeping the one that penetrates least and keeps contact, with
 //!   simple priors ([`articulate`]); passive dynamics from the moving parts' inertia
@@ -19,9 +22,12 @@ mod intrinsic;
 mod joint_geometry;
 mod keywords;
 mod material_guess;
+mod motion_search;
 mod object;
 mod roles;
+mod spin;
 mod tree;
+mod unnamed;
 
 pub use articulate::{Articulation, PartInput, articulate, sanitize};
 pub use dynamics::{

@@ -101,9 +101,64 @@ pub(crate) fn build_tree(
     (PartId(u32::try_from(root).unwrap_or(0)), parent)
 }
 
+/// Picks parents by size and contact alone, for parts whose names say nothing:
+///
+/// - the root is the largest part (`sizes`, any measure of bulk);
+/// - every other part hangs from the bigger part it touches most (`contact(i, j)`: how much of
+///   part `i` touches part `j`), or, touching none, from the nearest bigger part. A door hangs
+///   from its cabinet and a handle screwed to a door from the door, even where it also grazes
+///   the cabinet.
+///
+/// Parents are always bigger (ties broken by index), so the tree has no cycle.
+pub(crate) fn build_tree_by_size(
+    sizes: &[f64],
+    contact: &dyn Fn(usize, usize) -> f64,
+    distance_m: &dyn Fn(usize, usize) -> f64,
+) -> (PartId, Vec<Option<usize>>) {
+    let n = sizes.len();
+    let bigger = |j: usize, i: usize| sizes[j] > sizes[i] || (sizes[j] == sizes[i] && j < i);
+    let root = (0..n)
+        .reduce(|a, b| if bigger(b, a) { b } else { a })
+        .unwrap_or(0);
+    let parent = (0..n)
+        .map(|i| {
+            if i == root {
+                return None;
+            }
+            let larger = (0..n).filter(|&j| j != i && bigger(j, i));
+            let touching = larger
+                .clone()
+                .filter(|&j| contact(i, j) > 0.0)
+                .max_by(|&a, &b| contact(i, a).total_cmp(&contact(i, b)));
+            touching
+                .or_else(|| larger.min_by(|&a, &b| distance_m(i, a).total_cmp(&distance_m(i, b))))
+        })
+        .collect();
+    (PartId(u32::try_from(root).unwrap_or(0)), parent)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unnamed_parts_hang_from_the_bigger_part_they_touch_most() {
+        // 0 door, 1 cabinet, 2 handle (mostly on the door, grazing the cabinet), 3 loose part.
+        let sizes = [0.2, 1.0, 0.01, 0.02];
+        let contact = |i: usize, j: usize| match (i, j) {
+            (0, 1) | (1, 0) => 50.0,
+            (2, 0) => 30.0,
+            (2, 1) => 2.0,
+            _ => 0.0,
+        };
+        let gap = |i: usize, j: usize| match (i.min(j), i.max(j)) {
+            (1, 3) => 0.1,
+            _ => 0.3,
+        };
+        let (root, parent) = build_tree_by_size(&sizes, &contact, &gap);
+        assert_eq!(root, PartId(1));
+        assert_eq!(parent, vec![Some(1), None, Some(0), Some(1)]);
+    }
 
     #[test]
     fn cabinet_like_layout_gets_the_expected_parents() {

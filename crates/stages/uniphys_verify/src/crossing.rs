@@ -91,8 +91,9 @@ pub(crate) struct Crossings {
     /// Whether each clear point has passed through a surface (crossed it and gone deeper than
     /// `through_depth_m` beyond it).
     crossed: Vec<bool>,
-    /// The part each clear point has crossed the surface of but not yet gone deep beyond.
-    touching: Vec<Option<usize>>,
+    /// The part each clear point has crossed the surface of but not yet gone deep beyond, and
+    /// whether it crossed it inside the space the moving group filled at rest.
+    touching: Vec<Option<(usize, bool)>>,
     /// How far beyond a crossed surface a point must go to count: less is a part closing onto
     /// another (a lid on its box, a screen on its keyboard), which real limits are.
     through_depth_m: f64,
@@ -104,6 +105,10 @@ pub(crate) struct Crossings {
     occupancy: KdTree,
     /// A crossing this close to a moving point at rest is in space the group filled at rest.
     occupancy_radius_m: f64,
+    /// How far beyond a surface crossed in the space the group filled at rest a point must go to
+    /// count: a button pressed into the face it rests on (real meshes often lack its hole) goes
+    /// a few millimetres, a door turned into its cabinet through that face goes far.
+    rest_space_depth_m: f64,
 }
 
 impl Crossings {
@@ -145,6 +150,7 @@ impl Crossings {
             crossed: vec![false; clear.len()],
             touching: vec![None; clear.len()],
             through_depth_m: contact_m,
+            rest_space_depth_m: (params.short_slide_fraction * scene.diagonal_m).max(contact_m),
             clear,
             crossed_count: 0,
             near,
@@ -155,7 +161,10 @@ impl Crossings {
 
     /// Moves the points to `moved` (all moving points, in their original order) and records the
     /// crossings on the way from their previous positions; a point that crossed a surface counts
-    /// once it is deeper than the contact distance beyond it.
+    /// once it is deeper than the contact distance beyond it, or, where it crossed inside the
+    /// space the group filled at rest (a button pressed into its face, a wheel in its fork),
+    /// deeper than a short slide's travel (a door turned into its cabinet through the face it
+    /// rested on).
     pub(crate) fn advance(&mut self, scene: &Scene, moved: &[DVec3]) {
         for (k, &i) in self.clear.iter().enumerate() {
             let to = moved[i];
@@ -165,14 +174,19 @@ impl Crossings {
                         let Some(hit) = scene.surfaces.crossing(*part, self.previous[k], to) else {
                             continue;
                         };
-                        if self.occupancy.nearest_distance(hit) > self.occupancy_radius_m {
-                            self.touching[k] = Some(*part);
-                            break;
-                        }
+                        let in_rest_space =
+                            self.occupancy.nearest_distance(hit) <= self.occupancy_radius_m;
+                        self.touching[k] = Some((*part, in_rest_space));
+                        break;
                     }
                 }
-                if let Some(part) = self.touching[k]
-                    && scene.surfaces.distance_m(part, to) > self.through_depth_m
+                if let Some((part, in_rest_space)) = self.touching[k]
+                    && scene.surfaces.distance_m(part, to)
+                        > if in_rest_space {
+                            self.rest_space_depth_m
+                        } else {
+                            self.through_depth_m
+                        }
                 {
                     self.crossed[k] = true;
                     self.crossed_count += 1;

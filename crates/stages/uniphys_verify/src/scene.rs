@@ -70,6 +70,13 @@ impl Scene {
         self.samples.len()
     }
 
+    /// Distance from `point` (object frame) to the own triangles of `part`, metres (infinite for
+    /// a part without a surface).
+    #[must_use]
+    pub fn distance_to_surface_m(&self, part: usize, point: DVec3) -> f64 {
+        self.surfaces.distance_m(part, point)
+    }
+
     /// Surface samples of the given parts, concatenated.
     #[must_use]
     pub fn points_of(&self, parts: &[usize]) -> Vec<DVec3> {

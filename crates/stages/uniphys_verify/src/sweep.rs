@@ -107,8 +107,9 @@ pub struct SweepMetrics {
     pub worst_part: Option<usize>,
     /// Moving surface samples clear of every other part at rest (the ones crossings count).
     pub clear_points: usize,
-    /// Of them, the samples that passed through another part's surface outside the space the
-    /// moving parts filled at rest.
+    /// Of them, the samples that passed through another part's surface and went beyond it deeper
+    /// than the contact distance, or, where they crossed it inside the space the moving parts
+    /// filled at rest, deeper than a short slide's travel.
     pub crossed_points: usize,
     /// `crossed_points / clear_points` at the end of the sweep (0 without clear points).
     pub crossed_fraction: f64,
@@ -150,8 +151,9 @@ pub struct SweepMetrics {
 ///
 /// Crossings (the verdict on interpenetration): the moving surface samples clear of every other
 /// part at rest are followed outward from rest to each limit; one counts once it passes through
-/// another part's own triangles outside the space the moving samples filled at rest and goes
-/// deeper than the contact distance beyond them. Open shells and zero-thickness panels are judged
+/// another part's own triangles and goes deeper than the contact distance beyond them (deeper
+/// than a short slide's travel where it crossed inside the space the moving samples filled at
+/// rest: a button pressed into its face). Open shells and zero-thickness panels are judged
 /// as they are, what overlapped at rest is not new, and a round part turning in place crosses
 /// nothing new. Collider penetration (a measure for the grounder, not a verdict): for each pair
 /// of a moving and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth
@@ -478,8 +480,9 @@ impl SweepMetrics {
     /// - short slides: the part moves away from its parent (a button pulled out);
     /// - any joint: the 95th percentile thickness ratio above `thickness_ratio_max`;
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
-    ///   at rest passes through another part's surface, outside the space the moving parts filled
-    ///   at rest (what overlapped at rest, or a symmetric part turning in place, is not new).
+    ///   at rest passes through another part's surface (where it crosses inside the space the
+    ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
+    ///   overlapped at rest, or a symmetric part turning in place, is not new).
     #[must_use]
     pub fn failures(&self, params: &SweepParams) -> Vec<String> {
         let mut reasons = Vec::new();

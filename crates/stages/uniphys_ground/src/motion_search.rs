@@ -1,0 +1,534 @@
+//! How a part nobody named moves: its joint chosen from its shape, its place on its parent and
+//! sweeps of the candidate motions (reference: real-articulated-objects.md, "Cues that separate
+//! the motions").
+//!
+//! 1. **Spin**: a part round about an axis turns continuously about it ([`crate::spin`]), unless it
+//!    is small (its box diagonal under a fifth of its parent's) and flat as a coin.
+//! 2. **Push or turn**: a small part that is a coin, or not round and flat, moves a short way into
+//!    its parent along the axis facing it (a button or a key); one that is not round but stands
+//!    out of the face by 40 % of its width or more is a knob with a grip and turns about that axis.
+//! 3. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
+//!    corners, edge and face middles and centre, both directions) and every slide along a box axis
+//!    is swept outward from rest. Each gets its free range: how far it moves before it passes
+//!    through another part, or (a hinge) its axis leaves the parent, or (a slide) it loses
+//!    contact with the parent.
+//!    - A part that is not a thin panel (thickness at least 15 % of its width) and lies mostly
+//!      inside its parent's box (a drawer, a tray) slides when it can slide out of its opening:
+//!      along the box axis in which its parent encloses it least, in which it is deep (at least
+//!      15 % of its longest extent), keeping touching the parent over 30 % of that depth. Else it
+//!      hinges when some hinge turns it freely by 30 degrees or more.
+//!    - A thin panel (a door, a lid, a screen) or a part outside its parent (a handle) hinges
+//!      first, then slides, by the same tests.
+//!    - A part that can do neither is fixed.
+//!
+//!    Among hinges, the one with the widest free turn (up to a quarter turn) whose line runs along
+//!    its parent and through where the part touches it wins; a line along the long edge, and far
+//!    from the handle (standing out of the outer face, or a part it carries), break ties. The
+//!    range is the free range.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
+use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
+use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
+
+use crate::BUILTIN_PROVIDER;
+use crate::spin::spin_axis;
+
+/// A part whose box diagonal is under this fraction of its parent's is pushed (a button).
+const SMALL_PART_FRACTION: f64 = 0.2;
+/// A round small part whose length along its axis is under this fraction of its width is a
+/// coin (a round button, pushed); above it a stub (a knob, turned).
+const COIN_RATIO: f64 = 0.2;
+/// A small part that is not round but stands out of its parent's face by this fraction of its
+/// width or more is gripped and turned (a knob with a grip bar); flatter ones are pushed.
+const KNOB_RATIO: f64 = 0.4;
+/// A part whose thinnest box extent is under this fraction of the middle one is a panel (a
+/// door, a lid, a screen): it hinges first, slides only when it cannot hinge.
+const THIN_RATIO: f64 = 0.15;
+/// A part that is not a panel, with at least this share of its surface inside its parent's box sits in an opening of
+/// its parent (a drawer, a tray): it slides first, hinges only when it cannot slide.
+const INSIDE_SHARE_MIN: f64 = 0.5;
+/// Parts within this fraction of the object's diagonal touch.
+const TOUCH_FRACTION: f64 = 0.01;
+/// A slide is supported while at least this many of the part's samples touch its parent.
+const SUPPORT_POINTS_MIN: usize = 6;
+/// Hinges are swept from rest to half a turn.
+const HINGE_SWEEP_RAD: f64 = PI;
+/// A hinge must turn freely at least this far to count, radians (30 degrees).
+const HINGE_FREE_MIN_RAD: f64 = std::f64::consts::FRAC_PI_6;
+/// A slide must keep touching its parent over at least this share of the part's depth along it.
+const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
+/// A part slides only along a direction in which it is at least this deep, as a share of its
+/// longest extent (a drawer's depth, not a door's thickness).
+const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
+/// A handle stands out of the part's outer face by at least this share of the face's thickness.
+const HANDLE_STAND_OUT_FRACTION: f64 = 0.25;
+/// A push travels this share of the part's depth along its axis.
+const PUSH_TRAVEL_FRACTION: f64 = 0.5;
+/// Steps of each candidate's sweep.
+const STEPS: usize = 16;
+
+/// The part being articulated.
+pub(crate) struct Mover<'a> {
+    pub(crate) child: usize,
+    pub(crate) parent: usize,
+    /// The child and the parts it carries.
+    pub(crate) moving: &'a [usize],
+}
+
+/// The chosen joint (`None` for fixed) and a one-line account of the choice for the report.
+pub(crate) struct Motion {
+    pub(crate) joint: Option<Joint>,
+    pub(crate) summary: String,
+}
+
+/// The part's box: axes, projection ranges, centre and diagonal.
+struct PartBox {
+    axes: [DVec3; 3],
+    ranges: [(f64, f64); 3],
+    centre: DVec3,
+    diagonal: f64,
+}
+
+impl PartBox {
+    fn of(points: &[DVec3]) -> Self {
+        let axes = box_axes(points);
+        let ranges = axes.map(|a| projection_range(points, a));
+        let centre = (0..3)
+            .map(|k| axes[k] * (0.5 * (ranges[k].0 + ranges[k].1)))
+            .sum();
+        let diagonal = ranges
+            .iter()
+            .map(|(lo, hi)| (hi - lo).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        Self {
+            axes,
+            ranges,
+            centre,
+            diagonal,
+        }
+    }
+
+    fn extent(&self, k: usize) -> f64 {
+        (self.ranges[k].1 - self.ranges[k].0).max(0.0)
+    }
+
+    /// Extents sorted from thinnest to thickest.
+    fn sorted_extents(&self) -> [f64; 3] {
+        let mut e = [self.extent(0), self.extent(1), self.extent(2)];
+        e.sort_by(f64::total_cmp);
+        e
+    }
+}
+
+/// A swept candidate and what it showed.
+struct Candidate {
+    joint: Joint,
+    /// Free range: radians for hinges, metres for slides.
+    free: f64,
+    /// Ranking score within its kind (higher is better).
+    score: f64,
+}
+
+/// The joint of `mover`, or `None` (fixed) when no motion fits.
+pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
+    let child_points = scene.points_of(&[mover.child]);
+    let parent_points = scene.points_of(&[mover.parent]);
+    if child_points.len() < 16 || parent_points.is_empty() {
+        return Motion {
+            joint: None,
+            summary: "too little surface to judge a motion; fixed".to_owned(),
+        };
+    }
+    let part = PartBox::of(&child_points);
+    let inward = toward_parent(scene, mover, &child_points, &part);
+    let parent_diagonal = Aabb::from_points(&parent_points).diagonal();
+    let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
+    let spin = spin_axis(scene, mover.child, &child_points, part.axes, inward);
+    if let Some(spin) = spin.filter(|s| !small || s.length_over_width >= COIN_RATIO) {
+        return Motion {
+            joint: Some(joint(
+                mover,
+                JointKind::Continuous,
+                spin.axis,
+                spin.centre,
+                None,
+                "round about this axis: spins".to_owned(),
+            )),
+            summary: format!(
+                "round about an axis ({:.0} % of its surface maps onto itself when turned): continuous",
+                100.0 * spin.kept_fraction
+            ),
+        };
+    }
+    if small {
+        // The box axis facing the parent; a round coin pushes along its own axis.
+        let k = (0..3)
+            .max_by(|&a, &b| {
+                let facing = |k: usize| part.axes[k].dot(inward).abs();
+                facing(a).total_cmp(&facing(b))
+            })
+            .unwrap_or(0);
+        let normal = spin.map_or(part.axes[k], |s| s.axis);
+        let normal = if normal.dot(inward) < 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        let depth = extent_along(&child_points, normal);
+        let width = {
+            let (u, v) = (
+                normal.any_orthonormal_vector(),
+                normal.cross(normal.any_orthonormal_vector()),
+            );
+            extent_along(&child_points, u).max(extent_along(&child_points, v))
+        };
+        let share = 100.0 * part.diagonal / parent_diagonal.max(1e-12);
+        if spin.is_none() && depth >= KNOB_RATIO * width {
+            return Motion {
+                joint: Some(joint(
+                    mover,
+                    JointKind::Continuous,
+                    normal,
+                    part.centre,
+                    None,
+                    "a small part standing out of its parent's face: turned".to_owned(),
+                )),
+                summary: format!(
+                    "small ({share:.0} % of its parent's size), standing out {:.0} % of its width: a knob, continuous",
+                    100.0 * depth / width.max(1e-12)
+                ),
+            };
+        }
+        let travel = PUSH_TRAVEL_FRACTION * depth;
+        return Motion {
+            joint: Some(joint(
+                mover,
+                JointKind::Prismatic,
+                normal,
+                part.centre,
+                Some(travel.max(1e-6)),
+                "a small part on its parent's face: pushed in".to_owned(),
+            )),
+            summary: format!(
+                "small ({share:.0} % of its parent's size) and flat or square: pushed {travel:.4} into its parent"
+            ),
+        };
+    }
+    let hypotheses = hypotheses(mover, &part);
+    let params = SweepParams {
+        steps: STEPS,
+        ..SweepParams::default()
+    };
+    let touch_m = TOUCH_FRACTION * scene.diagonal_m;
+    let swept = parallel_map(&hypotheses, |j| {
+        let metrics = sweep(scene, j, mover.moving, &params).ok()?;
+        let supported = (j.kind == JointKind::Prismatic)
+            .then(|| supported_travel(scene, mover, &child_points, j, touch_m));
+        Some((metrics, supported))
+    });
+    // A handle (standing out of the part's outer face, or a part it carries) sits near the free
+    // edge, away from the hinge.
+    let handle = handle_centre(
+        scene,
+        mover,
+        &child_points,
+        &part,
+        part.centre - mean(&parent_points),
+    );
+    // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
+    // screen's lower edge).
+    let touching: Vec<DVec3> = child_points
+        .iter()
+        .copied()
+        .filter(|p| scene.distance_to_surface_m(mover.parent, *p) <= touch_m)
+        .collect();
+    let parent_box = PartBox::of(&parent_points);
+    let inside = inside_share(&child_points, &parent_box);
+    let longest = part.sorted_extents()[2].max(1e-12);
+    let mut hinges = Vec::new();
+    let mut slides = Vec::new();
+    for (joint, metrics) in hypotheses.into_iter().zip(swept) {
+        let Some((m, supported)) = metrics.filter(|(m, _)| m.initial_contact_points > 0) else {
+            continue;
+        };
+        let upper = joint.limits.map_or(0.0, |l| l.upper);
+        let free = free_range(&m, upper).min(supported.unwrap_or(f64::INFINITY));
+        let axis = DVec3::from_array(joint.axis_in_object);
+        if joint.kind == JointKind::Prismatic {
+            // Out of the opening: the direction in which the parent encloses the part the least.
+            let margin = support(&parent_points, axis) - support(&child_points, axis);
+            slides.push(Candidate {
+                score: -margin,
+                free,
+                joint,
+            });
+        } else {
+            let pivot = DVec3::from_array(joint.pivot_in_object_m);
+            let line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
+            let width = (0..3)
+                .map(|k| part.axes[k].reject_from_normalized(axis).length() * part.extent(k))
+                .fold(0.0, f64::max)
+                .max(1e-12);
+            let from_handle = handle.map_or(0.0, |h| line(h) / width);
+            let along = (0..3)
+                .map(|k| part.axes[k].dot(axis).abs() * part.extent(k))
+                .fold(0.0, f64::max);
+            let from_contact =
+                touching.iter().map(|p| line(*p)).sum::<f64>() / touching.len().max(1) as f64;
+            let score = free.min(FRAC_PI_2) / FRAC_PI_2
+                - 2.0 * m.hinge_mean_to_parent_m / part.diagonal.max(1e-12)
+                - 2.0 * from_contact / part.diagonal.max(1e-12)
+                + 0.3 * along / longest
+                + 0.5 * from_handle.min(1.0);
+            hinges.push(Candidate { joint, free, score });
+        }
+    }
+    let best = |list: &mut Vec<Candidate>| {
+        list.sort_by(|a, b| b.score.total_cmp(&a.score));
+        list.first().map(|c| (c.joint.clone(), c.free, c.score))
+    };
+    let hinge = best(&mut hinges).filter(|(_, free, _)| *free >= HINGE_FREE_MIN_RAD);
+    // A part slides out of its opening along its depth: only the way out counts, and it must be
+    // deep that way (a door's way out is through its thin face) and travel most of that depth.
+    let slide = best(&mut slides).filter(|(joint, free, _)| {
+        let depth = extent_along(&child_points, DVec3::from_array(joint.axis_in_object));
+        depth >= SLIDE_DEPTH_MIN_FRACTION * longest && *free >= SLIDE_FREE_MIN_FRACTION * depth
+    });
+    let [thin, middle, _] = part.sorted_extents();
+    let panel = thin < THIN_RATIO * middle;
+    let enclosed = !panel && inside >= INSIDE_SHARE_MIN;
+    let chosen = if enclosed {
+        slide.clone().or_else(|| hinge.clone())
+    } else {
+        hinge.clone().or_else(|| slide.clone())
+    };
+    let account = format!(
+        "{}, {:.0} % inside its parent's box; best hinge {}; best slide {}",
+        if panel {
+            "a thin panel"
+        } else {
+            "not a thin panel"
+        },
+        100.0 * inside,
+        hinges.first().map_or("none".to_owned(), |c| format!(
+            "turns {:.0} deg freely (score {:.2})",
+            c.free.to_degrees(),
+            c.score
+        )),
+        slides.first().map_or("none".to_owned(), |c| format!(
+            "out of its opening, keeps touching over {:.3}",
+            c.free
+        )),
+    );
+    match chosen {
+        Some((mut joint, free, _)) => {
+            if let Some(limits) = joint.limits.as_mut() {
+                limits.upper = free;
+            }
+            let kind = if joint.kind == JointKind::Prismatic {
+                "slides"
+            } else {
+                "hinges"
+            };
+            Motion {
+                joint: Some(joint),
+                summary: format!("{kind}: {account}"),
+            }
+        }
+        None => Motion {
+            joint: None,
+            summary: format!("no free motion: fixed; {account}"),
+        },
+    }
+}
+
+fn mean(points: &[DVec3]) -> DVec3 {
+    points.iter().sum::<DVec3>() / points.len().max(1) as f64
+}
+
+/// The centre of the part's handle, if it has one: the parts it carries, or the samples standing
+/// out of its outer face (the face of its thinnest box axis turned away from the parent, `away`)
+/// when they are between 1 % and 30 % of its surface.
+fn handle_centre(
+    scene: &Scene,
+    mover: &Mover<'_>,
+    child_points: &[DVec3],
+    part: &PartBox,
+    away: DVec3,
+) -> Option<DVec3> {
+    let carried: Vec<usize> = mover
+        .moving
+        .iter()
+        .copied()
+        .filter(|&p| p != mover.child)
+        .collect();
+    if !carried.is_empty() {
+        return Some(mean(&scene.points_of(&carried)));
+    }
+    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    let normal = if part.axes[thin].dot(away) < 0.0 {
+        -part.axes[thin]
+    } else {
+        part.axes[thin]
+    };
+    let mut levels: Vec<f64> = child_points.iter().map(|p| p.dot(normal)).collect();
+    levels.sort_by(f64::total_cmp);
+    let at = |q: f64| levels[((levels.len() - 1) as f64 * q).round() as usize];
+    let (back, front) = (at(0.25), at(0.75));
+    let out = front + HANDLE_STAND_OUT_FRACTION * (front - back).max(0.01 * part.diagonal);
+    let standing: Vec<DVec3> = child_points
+        .iter()
+        .copied()
+        .filter(|p| p.dot(normal) > out)
+        .collect();
+    let share = standing.len() as f64 / child_points.len().max(1) as f64;
+    (0.01..=0.3).contains(&share).then(|| mean(&standing))
+}
+
+/// The largest `p . d` over the points.
+fn support(points: &[DVec3], d: DVec3) -> f64 {
+    projection_range(points, d).1
+}
+
+/// Share of the points inside the box (its axes and ranges).
+fn inside_share(points: &[DVec3], b: &PartBox) -> f64 {
+    let inside = points
+        .iter()
+        .filter(|p| {
+            (0..3).all(|k| {
+                let x = p.dot(b.axes[k]);
+                x >= b.ranges[k].0 && x <= b.ranges[k].1
+            })
+        })
+        .count();
+    inside as f64 / points.len().max(1) as f64
+}
+
+/// How far a slide moves the part while it still touches its parent (at least
+/// `SUPPORT_POINTS_MIN` of its samples within `touch_m` of the parent's surface), one step short
+/// of the first step where it does not.
+fn supported_travel(
+    scene: &Scene,
+    mover: &Mover<'_>,
+    child_points: &[DVec3],
+    slide: &Joint,
+    touch_m: f64,
+) -> f64 {
+    let axis = DVec3::from_array(slide.axis_in_object);
+    let upper = slide.limits.map_or(0.0, |l| l.upper);
+    let step = upper / (STEPS - 1) as f64;
+    for i in 1..STEPS {
+        let shift = axis * (step * i as f64);
+        let touching = child_points
+            .iter()
+            .filter(|p| scene.distance_to_surface_m(mover.parent, **p + shift) <= touch_m)
+            .take(SUPPORT_POINTS_MIN)
+            .count();
+        if touching < SUPPORT_POINTS_MIN {
+            return step * (i - 1) as f64;
+        }
+    }
+    upper
+}
+
+/// Length of the points' projection on a unit direction.
+fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
+    let (lo, hi) = projection_range(points, d);
+    (hi - lo).max(0.0)
+}
+
+/// The signed box axis of the part that points at its parent: the one along which a small shift
+/// of the part brings its samples closest to the parent's surface.
+fn toward_parent(scene: &Scene, mover: &Mover<'_>, child: &[DVec3], part: &PartBox) -> DVec3 {
+    let shift = 0.05 * part.sorted_extents()[0].max(0.01 * part.diagonal);
+    let mean_gap = |d: DVec3| {
+        child
+            .iter()
+            .map(|p| scene.distance_to_surface_m(mover.parent, *p + d * shift))
+            .sum::<f64>()
+    };
+    part.axes
+        .iter()
+        .flat_map(|a| [*a, -*a])
+        .min_by(|a, b| mean_gap(*a).total_cmp(&mean_gap(*b)))
+        .unwrap_or(DVec3::Z)
+}
+
+/// Every hinge line of the part's box (9 per box axis, both directions) swept over half a turn,
+/// and every slide along a box axis (both directions) over the part's length along it.
+fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
+    let mut out = Vec::new();
+    for k in 0..3 {
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        let levels = |r: (f64, f64)| [r.0, 0.5 * (r.0 + r.1), r.1];
+        let along = part.axes[k] * (0.5 * (part.ranges[k].0 + part.ranges[k].1));
+        for su in levels(part.ranges[u]) {
+            for sv in levels(part.ranges[v]) {
+                let pivot = along + part.axes[u] * su + part.axes[v] * sv;
+                for sign in [1.0, -1.0] {
+                    out.push(joint(
+                        mover,
+                        JointKind::Revolute,
+                        part.axes[k] * sign,
+                        pivot,
+                        Some(HINGE_SWEEP_RAD),
+                        format!("hinge along box axis {k}, chosen by its free sweep"),
+                    ));
+                }
+            }
+        }
+        for sign in [1.0, -1.0] {
+            out.push(joint(
+                mover,
+                JointKind::Prismatic,
+                part.axes[k] * sign,
+                part.centre,
+                Some(part.extent(k).max(1e-6)),
+                format!("slide along box axis {k}, chosen by its free sweep"),
+            ));
+        }
+    }
+    out
+}
+
+/// How far the candidate moved before it failed (one step short of the failing coordinate): a
+/// crossing, a hinge whose axis left its parent, or a slide that lost contact.
+fn free_range(m: &SweepMetrics, upper: f64) -> f64 {
+    let step = upper / (STEPS - 1) as f64;
+    let failed = if m.kind == JointKind::Prismatic {
+        match (m.crossing_coordinate, m.lost_contact_coordinate) {
+            (Some(a), Some(b)) => Some(a.abs().min(b.abs())),
+            (a, b) => a.or(b).map(f64::abs),
+        }
+    } else {
+        m.failure_coordinate().map(f64::abs)
+    };
+    failed.map_or(upper, |q| (q - step).max(0.0))
+}
+
+fn joint(
+    mover: &Mover<'_>,
+    kind: JointKind,
+    axis: DVec3,
+    pivot: DVec3,
+    upper: Option<f64>,
+    why: String,
+) -> Joint {
+    let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
+    Joint {
+        name: String::new(),
+        kind,
+        parent: id(mover.parent),
+        child: id(mover.child),
+        axis_in_object: axis.normalize().to_array(),
+        pivot_in_object_m: pivot.to_array(),
+        limits: upper.map(|upper| JointLimits { lower: 0.0, upper }),
+        damping: 0.0,
+        friction: 0.0,
+        coupled_parts: Vec::new(),
+        provenance: Provenance::provider(BUILTIN_PROVIDER, why),
+    }
+}

@@ -1,0 +1,135 @@
+//! Spin axes: a part that maps onto itself when turned about an axis (a knob, a wheel, a round
+//! cap or lid) can turn about it without sweeping any new space, so it turns continuously.
+//!
+//! Candidate axes are the part's box axes, its principal axes and the direction toward its
+//! parent; the best is refined by small tilts, since a box fitted to a knob with a grip or a
+//! wheel with a tread is a few degrees off its true axis.
+
+use uniphys_geometry::{DQuat, DVec3, principal_axes, projection_range};
+use uniphys_verify::Scene;
+
+/// Turns at which the part is compared with itself, radians (30, 75 and 130 degrees): no
+/// rectangle or square maps onto itself at any of them, a round part does at all.
+const TURNS_RAD: [f64; 3] = [
+    std::f64::consts::FRAC_PI_6,
+    5.0 * std::f64::consts::PI / 12.0,
+    13.0 * std::f64::consts::PI / 18.0,
+];
+/// A turned sample is back on the part when it lies within this fraction of the part's
+/// diagonal of the part's own surface.
+const ON_SURFACE_FRACTION: f64 = 0.02;
+/// Share of the turned samples that must be back on the part at every turn.
+const KEPT_FRACTION_MIN: f64 = 0.85;
+/// Tilts tried around the best candidate axis, radians (3 and 1 degrees).
+const TILTS_RAD: [f64; 2] = [0.052_359_88, 0.017_453_29];
+
+/// An axis the part is round about.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Spin {
+    /// Unit axis, object frame.
+    pub axis: DVec3,
+    /// A point on it: the middle of the part's extent across and along the axis, object frame.
+    pub centre: DVec3,
+    /// The smallest share of turned samples back on the part over the test turns.
+    pub kept_fraction: f64,
+    /// The part's extent along the axis over its largest extent across it: below about a fifth
+    /// the part is a coin (a flat button), above it a stub (a knob, a wheel).
+    pub length_over_width: f64,
+}
+
+/// Two unit vectors completing `axis` to an orthonormal frame.
+fn across(axis: DVec3) -> (DVec3, DVec3) {
+    let u = axis.any_orthonormal_vector();
+    (u, axis.cross(u))
+}
+
+/// The centre of the points' box in the frame of `axis`.
+fn centre_about(points: &[DVec3], axis: DVec3) -> DVec3 {
+    let (u, v) = across(axis);
+    [axis, u, v]
+        .iter()
+        .map(|d| {
+            let (lo, hi) = projection_range(points, *d);
+            *d * (0.5 * (lo + hi))
+        })
+        .sum()
+}
+
+/// The smallest share of `points` that land back on the part's surface over the test turns.
+fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tolerance: f64) -> f64 {
+    let centre = centre_about(points, axis);
+    TURNS_RAD
+        .iter()
+        .map(|&angle| {
+            let turn = DQuat::from_axis_angle(axis, angle);
+            let on = points
+                .iter()
+                .filter(|p| {
+                    let turned = centre + turn * (**p - centre);
+                    scene.distance_to_surface_m(part, turned) <= tolerance
+                })
+                .count();
+            on as f64 / points.len() as f64
+        })
+        .fold(1.0, f64::min)
+}
+
+/// The axis `part` (sampled at `points`, box axes `axes`) is round about, if any; when several
+/// are (a ball), the one most aligned with `prefer` (toward the parent).
+pub(crate) fn spin_axis(
+    scene: &Scene,
+    part: usize,
+    points: &[DVec3],
+    axes: [DVec3; 3],
+    prefer: DVec3,
+) -> Option<Spin> {
+    if points.len() < 16 {
+        return None;
+    }
+    let diagonal = axes
+        .iter()
+        .map(|a| {
+            let (lo, hi) = projection_range(points, *a);
+            (hi - lo).powi(2)
+        })
+        .sum::<f64>()
+        .sqrt();
+    let tolerance = ON_SURFACE_FRACTION * diagonal;
+    let mut candidates: Vec<DVec3> = axes.to_vec();
+    candidates.extend(principal_axes(points));
+    if prefer.length_squared() > 0.5 {
+        candidates.push(prefer.normalize());
+    }
+    // Rank: the share kept, plus a small preference for the axis toward the parent (a ball).
+    let rank = |axis: DVec3, kept: f64| kept + 0.05 * axis.dot(prefer).abs();
+    let mut scored: Vec<(DVec3, f64)> = candidates
+        .iter()
+        .map(|&a| (a, kept_fraction(scene, part, points, a, tolerance)))
+        .collect();
+    scored.sort_by(|a, b| rank(b.0, b.1).total_cmp(&rank(a.0, a.1)));
+    let (mut axis, mut kept) = *scored.first()?;
+    for tilt in TILTS_RAD {
+        let (u, v) = across(axis);
+        for d in [u, -u, v, -v] {
+            let tilted = DQuat::from_axis_angle(d, tilt) * axis;
+            let k = kept_fraction(scene, part, points, tilted, tolerance);
+            if k > kept {
+                (axis, kept) = (tilted, k);
+            }
+        }
+    }
+    if kept < KEPT_FRACTION_MIN {
+        return None;
+    }
+    let (u, v) = across(axis);
+    let extent = |d: DVec3| {
+        let (lo, hi) = projection_range(points, d);
+        (hi - lo).max(0.0)
+    };
+    Some(Spin {
+        axis,
+        centre: centre_about(points, axis),
+        kept_fraction: kept,
+        length_over_width: extent(axis) / extent(u).max(extent(v)).max(1e-12),
+    })
+}

@@ -1,0 +1,127 @@
+//! The articulation of an asset whose part names do not say what slides or turns (`link_0`,
+//! `Mesh.002`, `handle`): the tree from size and contact, each part's joint from its shape and
+//! sweeps of candidate motions ([`crate::motion_search`]).
+
+use uniphys_geometry::{DVec3, TriMesh, min_distance_m, projection_range};
+use uniphys_types::{Joint, JointKind, PartId, Provenance};
+use uniphys_verify::Scene;
+
+use crate::BUILTIN_PROVIDER;
+use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word};
+use crate::hypotheses::SCREEN_SAMPLES;
+use crate::motion_search::{Mover, find_motion};
+use crate::tree::build_tree_by_size;
+
+/// Parts at least this fraction of the largest part's size are candidates for the root.
+const BIG_FRACTION: f64 = 0.5;
+/// Parts closer than this fraction of the object's diagonal touch.
+const TOUCH_FRACTION: f64 = 0.01;
+
+/// Root, one joint per other part, and notes on every choice; the scene's error when the parts
+/// cannot be swept (an object without extent).
+pub(crate) fn unnamed_joints(
+    parts: &[PartInput<'_>],
+) -> Result<(PartId, Vec<Joint>, Vec<String>), String> {
+    let n = parts.len();
+    let meshes: Vec<TriMesh> = parts.iter().map(|p| p.mesh.clone()).collect();
+    let colliders: Vec<Vec<TriMesh>> = parts.iter().map(|p| p.colliders.to_vec()).collect();
+    let scene = Scene::new(&meshes, &colliders, SCREEN_SAMPLES).map_err(|e| e.to_string())?;
+    let mut distance = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in (i + 1)..n {
+            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
+            distance[i][j] = d;
+            distance[j][i] = d;
+        }
+    }
+    // The root carries the others: among the big parts (at least half the size of the largest),
+    // the one touching the most big parts, then the heaviest (solid volume): a cabinet's body, a
+    // laptop's base rather than its screen, a bottle rather than its cap; a handle on a door
+    // does not make the door the root.
+    let touch_m = TOUCH_FRACTION * scene.diagonal_m;
+    let diagonals: Vec<f64> = parts.iter().map(|p| p.mesh.bounds().diagonal()).collect();
+    let largest = diagonals.iter().copied().fold(0.0, f64::max);
+    let big = |i: usize| diagonals[i] >= BIG_FRACTION * largest;
+    let touches: Vec<usize> = (0..n)
+        .map(|i| {
+            (0..n)
+                .filter(|&j| j != i && big(j) && distance[i][j] <= touch_m)
+                .count()
+        })
+        .collect();
+    let root_part = (0..n)
+        .filter(|&i| big(i))
+        .max_by(|&a, &b| {
+            (touches[a], parts[a].volume_m3)
+                .partial_cmp(&(touches[b], parts[b].volume_m3))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+        .unwrap_or(0);
+    let mut sizes: Vec<f64> = (0..n)
+        .map(|i| box_volume(&scene.points_of(&[i]), scene.diagonal_m))
+        .collect();
+    sizes[root_part] = f64::INFINITY;
+    // How many of part i's samples touch part j.
+    let mut contact = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        let points = scene.points_of(&[i]);
+        for j in (0..n).filter(|&j| j != i && distance[i][j] <= touch_m) {
+            contact[i][j] = points
+                .iter()
+                .filter(|p| scene.distance_to_surface_m(j, **p) <= touch_m)
+                .count() as f64;
+        }
+    }
+    let (root, parents) = build_tree_by_size(&sizes, &|i, j| contact[i][j], &|i, j| distance[i][j]);
+    let mut joints = Vec::new();
+    let mut notes = vec![format!(
+        "no part is named: {:?}, among the big parts the one touching the most big parts and then the heaviest, is the root; every other part hangs from the bigger part it touches most, and its joint comes from its shape and sweeps of its motions",
+        parts[root.0 as usize].name
+    )];
+    for (i, parent) in parents.iter().enumerate() {
+        let Some(p) = *parent else { continue };
+        let mut moving = vec![i];
+        moving.extend((0..n).filter(|&k| carried_by(k, i, &parents)));
+        let motion = find_motion(
+            &scene,
+            &Mover {
+                child: i,
+                parent: p,
+                moving: &moving,
+            },
+        );
+        let kind = motion.joint.as_ref().map_or(JointKind::Fixed, |j| j.kind);
+        notes.push(format!(
+            "part {:?} on {:?}: {} ({})",
+            parts[i].name,
+            parts[p].name,
+            kind_word(kind),
+            motion.summary
+        ));
+        joints.push(motion.joint.unwrap_or_else(|| {
+            fixed_joint(
+                PartId(u32::try_from(p).unwrap_or(u32::MAX)),
+                PartId(u32::try_from(i).unwrap_or(u32::MAX)),
+                parts[i].mass.com,
+                Provenance::provider(BUILTIN_PROVIDER, "no free motion found: fixed"),
+            )
+        }));
+    }
+    Ok((root, joints, notes))
+}
+
+/// Volume of the points' box on their own box axes, each side at least `floor_fraction` of
+/// the object's diagonal (a flat panel still has a size).
+fn box_volume(points: &[DVec3], object_diagonal_m: f64) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let floor = 0.01 * object_diagonal_m;
+    uniphys_geometry::box_axes(points)
+        .iter()
+        .map(|a| {
+            let (lo, hi) = projection_range(points, *a);
+            (hi - lo).max(floor)
+        })
+        .product()
+}

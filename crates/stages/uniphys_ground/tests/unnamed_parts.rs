@@ -1,0 +1,165 @@
+//! Hand-built objects whose parts have no names (`link_0`, `link_1`): each kind of joint must be
+//! found from geometry alone, with its axis (and, for a hinge, the edge it turns on).
+
+use uniphys_examples::shapes::{cuboid, cylinder, open_top_box, quarter_turn_z_to_front};
+use uniphys_geometry::{
+    ConvexParams, DMat3, DMat4, DVec3, MassProperties, TriMesh, convex_decomposition,
+};
+use uniphys_ground::{PartInput, RigidMass, articulate};
+use uniphys_types::{Joint, JointKind, PartId};
+
+/// Articulates the meshes as parts `link_0`, `link_1`, ... (no joints declared) and returns the
+/// joint of part 1.
+fn joint_of_part_1(meshes: &[TriMesh]) -> Joint {
+    let colliders: Vec<Vec<TriMesh>> = meshes
+        .iter()
+        .map(|m| convex_decomposition(m, &ConvexParams::default()).expect("hulls"))
+        .collect();
+    let names: Vec<String> = (0..meshes.len()).map(|i| format!("link_{i}")).collect();
+    let masses: Vec<(f64, RigidMass)> = meshes
+        .iter()
+        .map(|m| {
+            let mass = MassProperties::from_closed_mesh(m).expect("closed test shapes");
+            let density = 500.0;
+            (
+                mass.volume_m3,
+                RigidMass {
+                    mass_kg: density * mass.volume_m3,
+                    com: mass.com,
+                    inertia_about_com_kg_m2: mass.inertia_about_com_per_density * density,
+                },
+            )
+        })
+        .collect();
+    let parts: Vec<PartInput<'_>> = (0..meshes.len())
+        .map(|i| PartInput {
+            name: &names[i],
+            mesh: &meshes[i],
+            volume_m3: masses[i].0,
+            mass: masses[i].1,
+            colliders: &colliders[i],
+        })
+        .collect();
+    let articulation = articulate(&parts, &[]).expect("articulation");
+    assert_eq!(articulation.root, PartId(0), "{:#?}", articulation.notes);
+    articulation
+        .joints
+        .into_iter()
+        .find(|j| j.child == PartId(1))
+        .expect("a joint for part 1")
+}
+
+fn axis(joint: &Joint) -> DVec3 {
+    DVec3::from_array(joint.axis_in_object)
+}
+
+fn translated(mesh: TriMesh, by: DVec3) -> TriMesh {
+    mesh.transformed(&DMat4::from_translation(by))
+}
+
+/// A cabinet 0.6 wide, 0.5 deep and 0.7 tall whose front (-y) is open.
+fn open_front_cabinet() -> TriMesh {
+    // Built open toward +z, then turned so the opening faces -y.
+    open_top_box(
+        DVec3::new(-0.3, -0.35, 0.0),
+        DVec3::new(0.3, 0.35, 0.5),
+        0.02,
+    )
+    .transformed(&(DMat4::from_translation(DVec3::new(0.0, 0.0, 0.35)) * quarter_turn_z_to_front()))
+}
+
+#[test]
+fn a_drawer_in_an_open_front_cabinet_slides_out_of_the_front() {
+    let cabinet = open_front_cabinet();
+    let b = cabinet.bounds();
+    // A drawer is a box open at the top, like the cabinet around it.
+    let drawer = open_top_box(
+        DVec3::new(-0.275, b.min.y - 0.01, 0.03),
+        DVec3::new(0.275, b.max.y - 0.03, 0.3),
+        0.01,
+    );
+    let joint = joint_of_part_1(&[cabinet, drawer]);
+    assert_eq!(joint.kind, JointKind::Prismatic, "{joint:#?}");
+    assert!(axis(&joint).dot(DVec3::NEG_Y) > 0.99, "{joint:#?}");
+    let travel = joint.limits.expect("limits").upper;
+    assert!(travel > 0.25, "slides out most of its depth: {travel}");
+}
+
+#[test]
+fn a_door_with_a_handle_hinges_on_the_edge_away_from_the_handle() {
+    let body = cuboid(DVec3::new(-0.3, -0.25, 0.0), DVec3::new(0.3, 0.25, 0.7));
+    let panel = cuboid(DVec3::new(-0.3, -0.27, 0.0), DVec3::new(0.3, -0.25, 0.7));
+    let handle = cuboid(DVec3::new(0.22, -0.31, 0.25), DVec3::new(0.25, -0.27, 0.45));
+    let door = TriMesh::merge([&panel, &handle]);
+    let joint = joint_of_part_1(&[body, door]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    assert!(axis(&joint).z.abs() > 0.99, "a vertical hinge: {joint:#?}");
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    assert!(
+        pivot.x < -0.25,
+        "on the edge away from the handle: {joint:#?}"
+    );
+    assert!(joint.limits.expect("limits").upper >= 1.4, "{joint:#?}");
+}
+
+#[test]
+fn a_round_knob_on_a_face_spins_about_its_own_axis() {
+    let body = cuboid(DVec3::new(-0.3, -0.25, 0.0), DVec3::new(0.3, 0.25, 0.7));
+    // A cylinder about y standing 0.03 out of the front face.
+    let to_front = quarter_turn_z_to_front();
+    let knob = translated(
+        cylinder(0.025, 0.0, 0.03, 32).transformed(&to_front),
+        DVec3::new(0.1, -0.25, 0.5),
+    );
+    let joint = joint_of_part_1(&[body, knob]);
+    assert_eq!(joint.kind, JointKind::Continuous, "{joint:#?}");
+    assert!(axis(&joint).y.abs() > 0.99, "{joint:#?}");
+}
+
+#[test]
+fn a_flat_square_button_on_top_is_pushed_into_the_body() {
+    let body = cuboid(DVec3::new(-0.3, -0.25, 0.0), DVec3::new(0.3, 0.25, 0.7));
+    let button = cuboid(DVec3::new(0.0, 0.0, 0.7), DVec3::new(0.04, 0.04, 0.706));
+    let joint = joint_of_part_1(&[body, button]);
+    assert_eq!(joint.kind, JointKind::Prismatic, "{joint:#?}");
+    assert!(
+        axis(&joint).dot(DVec3::NEG_Z) > 0.99,
+        "pushed down: {joint:#?}"
+    );
+    let travel = joint.limits.expect("limits").upper;
+    assert!(travel > 0.0 && travel < 0.01, "{travel}");
+}
+
+#[test]
+fn a_lid_on_an_open_box_hinges_about_a_horizontal_edge() {
+    let base = open_top_box(
+        DVec3::new(-0.2, -0.15, 0.0),
+        DVec3::new(0.2, 0.15, 0.2),
+        0.01,
+    );
+    let lid = cuboid(DVec3::new(-0.2, -0.15, 0.2), DVec3::new(0.2, 0.15, 0.215));
+    let joint = joint_of_part_1(&[base, lid]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    assert!(axis(&joint).z.abs() < 0.01, "{joint:#?}");
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let a = axis(&joint);
+    // The hinge runs along one of the lid's edges.
+    let across = DVec3::Z.cross(a).normalize();
+    let offset = pivot.dot(across).abs();
+    let half_width = if a.x.abs() > 0.9 { 0.15 } else { 0.2 };
+    assert!((offset - half_width).abs() < 0.02, "{joint:#?}");
+}
+
+#[test]
+fn a_wheel_under_a_cart_spins_about_its_axle() {
+    let cart = cuboid(DVec3::new(-0.4, -0.25, 0.15), DVec3::new(0.4, 0.25, 0.5));
+    // A wheel of radius 0.15 about x, touching the cart's underside.
+    let turn = DMat4::from_mat3(DMat3::from_rotation_y(std::f64::consts::FRAC_PI_2));
+    let wheel = translated(
+        cylinder(0.075, -0.02, 0.02, 48).transformed(&turn),
+        DVec3::new(0.3, 0.0, 0.075),
+    );
+    let joint = joint_of_part_1(&[cart, wheel]);
+    assert_eq!(joint.kind, JointKind::Continuous, "{joint:#?}");
+    assert!(axis(&joint).x.abs() > 0.99, "{joint:#?}");
+}
