@@ -28,7 +28,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
+use uniphys_geometry::{Aabb, DVec3, box_axes, principal_axes, projection_range};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
@@ -43,6 +43,9 @@ const COIN_RATIO: f64 = 0.2;
 /// A small part that is not round but stands out of its parent's face by this fraction of its
 /// width or more is gripped and turned (a knob with a grip bar); flatter ones are pushed.
 const KNOB_RATIO: f64 = 0.4;
+/// A small part whose own axis is within this angle (cosine of 20 degrees) of the normal of the
+/// face it touches its parent on moves along that normal.
+const FACE_NORMAL_COS: f64 = 0.939_692_6;
 /// A part whose thinnest box extent is under this fraction of the middle one is a panel (a
 /// door, a lid, a screen): it hinges first, slides only when it cannot hinge.
 const THIN_RATIO: f64 = 0.15;
@@ -171,7 +174,19 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
                 facing(a).total_cmp(&facing(b))
             })
             .unwrap_or(0);
-        let normal = spin.map_or(part.axes[k], |s| s.axis);
+        // It moves along the normal of the face it sits on: the plane through the samples where
+        // it touches its parent (a slanted control panel) when that is close to its own axis.
+        let own = spin.map_or(part.axes[k], |s| s.axis);
+        let touch_m = TOUCH_FRACTION * scene.diagonal_m;
+        let touching: Vec<DVec3> = child_points
+            .iter()
+            .copied()
+            .filter(|p| scene.distance_to_surface_m(mover.parent, *p) <= touch_m)
+            .collect();
+        let face = (touching.len() >= 12).then(|| principal_axes(&touching)[2]);
+        let normal = face
+            .filter(|f| f.dot(own).abs() >= FACE_NORMAL_COS)
+            .unwrap_or(own);
         let normal = if normal.dot(inward) < 0.0 {
             -normal
         } else {

@@ -3,7 +3,8 @@
 //!
 //! Candidate axes are the part's box axes, its principal axes and the direction toward its
 //! parent; the best is refined by small tilts, since a box fitted to a knob with a grip or a
-//! wheel with a tread is a few degrees off its true axis.
+//! wheel with a tread can be a few degrees off its true axis. The tilt decides whether the part
+//! is round; the axis stays the candidate when the tilt is small.
 
 use uniphys_geometry::{DQuat, DVec3, principal_axes, projection_range};
 use uniphys_verify::Scene;
@@ -20,6 +21,8 @@ const TURNS_RAD: [f64; 3] = [
 const ON_SURFACE_FRACTION: f64 = 0.02;
 /// Share of the turned samples that must be back on the part at every turn.
 const KEPT_FRACTION_MIN: f64 = 0.85;
+/// A refined axis within this angle of its candidate (cosine of 15 degrees) is the candidate.
+const SNAP_COS: f64 = 0.965_925_8;
 /// Tilts tried around the best candidate axis, radians (3 and 1 degrees).
 const TILTS_RAD: [f64; 2] = [0.052_359_88, 0.017_453_29];
 
@@ -108,6 +111,7 @@ pub(crate) fn spin_axis(
         .collect();
     scored.sort_by(|a, b| rank(b.0, b.1).total_cmp(&rank(a.0, a.1)));
     let (mut axis, mut kept) = *scored.first()?;
+    let unrefined = axis;
     for tilt in TILTS_RAD {
         let (u, v) = across(axis);
         for d in [u, -u, v, -v] {
@@ -120,6 +124,11 @@ pub(crate) fn spin_axis(
     }
     if kept < KEPT_FRACTION_MIN {
         return None;
+    }
+    // Made things are round about their own box or principal axes: a tilt only shows that the
+    // part is nearly round, so the axis stays the candidate it came from when that is close.
+    if axis.dot(unrefined).abs() >= SNAP_COS {
+        axis = unrefined;
     }
     let (u, v) = across(axis);
     let extent = |d: DVec3| {

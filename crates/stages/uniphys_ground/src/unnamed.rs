@@ -10,8 +10,13 @@ use crate::BUILTIN_PROVIDER;
 use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word};
 use crate::hypotheses::SCREEN_SAMPLES;
 use crate::motion_search::{Mover, find_motion};
+use crate::roles::{Role, role_of};
 use crate::tree::build_tree_by_size;
 
+/// Names that keep a part fixed to what it is on (names are a prior: a part called `handle` on
+/// a mug or a door is not swept for a motion of its own). Knobs and buttons move, so their names
+/// leave the choice to geometry.
+const FIXED_ATTACHMENTS: [&str; 4] = ["handle", "grip", "pull", "hinge"];
 /// Parts at least this fraction of the largest part's size are candidates for the root.
 const BIG_FRACTION: f64 = 0.5;
 /// Parts closer than this fraction of the object's diagonal touch.
@@ -80,6 +85,21 @@ pub(crate) fn unnamed_joints(
     )];
     for (i, parent) in parents.iter().enumerate() {
         let Some(p) = *parent else { continue };
+        if let (Role::Attachment, Some(word)) = role_of(parts[i].name)
+            && FIXED_ATTACHMENTS.contains(&word)
+        {
+            notes.push(format!(
+                "part {:?} on {:?}: fixed (named as a {word}, which is fixed to what it is on)",
+                parts[i].name, parts[p].name
+            ));
+            joints.push(fixed_joint(
+                pid(p),
+                pid(i),
+                parts[i].mass.com,
+                Provenance::provider(BUILTIN_PROVIDER, format!("named as a {word}: fixed")),
+            ));
+            continue;
+        }
         let mut moving = vec![i];
         moving.extend((0..n).filter(|&k| carried_by(k, i, &parents)));
         let motion = find_motion(
@@ -100,14 +120,18 @@ pub(crate) fn unnamed_joints(
         ));
         joints.push(motion.joint.unwrap_or_else(|| {
             fixed_joint(
-                PartId(u32::try_from(p).unwrap_or(u32::MAX)),
-                PartId(u32::try_from(i).unwrap_or(u32::MAX)),
+                pid(p),
+                pid(i),
                 parts[i].mass.com,
                 Provenance::provider(BUILTIN_PROVIDER, "no free motion found: fixed"),
             )
         }));
     }
     Ok((root, joints, notes))
+}
+
+fn pid(i: usize) -> PartId {
+    PartId(u32::try_from(i).unwrap_or(u32::MAX))
 }
 
 /// Volume of the points' box on their own box axes, each side at least `floor_fraction` of
