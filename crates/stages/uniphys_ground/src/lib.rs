@@ -5,13 +5,14 @@
 //! - materials from glTF/MTL material names, then part names ([`ground_part`]);
 //! - properties from typical values of known subtypes or the centre of the material prior;
 //! - object name, category, dimensions and mass ([`object_properties`]);
-//! - joints: declared ones completed; for parts without meaningful names, the tree from size and
-//!   contact and each joint from the part's shape (round: spins; small: pushed; thin: hinged;
-//!   else slid) and sweeps of hinge lines and slides on its box, the range being the free range
-//!   ([`articulate`]); otherwise part names say which parts slide or turn and the
-//!   joint of each is chosen by sweeping hypotheses (candidate axes x pivots x direction from the
-//!   contact with its parent) and keeping the one that penetrates least and keeps contact, with
-//!   simple priors ([`articulate`]); passive dynamics from the moving parts' inertia
+//! - joints ([`articulate`]): declared ones completed; when no part name says that it slides or
+//!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
+//!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
+//!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge, parts in
+//!   an opening slide, the range being the free range; otherwise part names say which parts
+//!   slide or turn and the joint of each is chosen by sweeping hypotheses (`hypotheses`:
+//!   candidate axes x pivots x direction from the contact with its parent) with simple priors;
+//!   passive dynamics from the moving parts' inertia
 //!   ([`joint_dynamics`]).
 
 mod articulate;
@@ -25,6 +26,7 @@ mod material_guess;
 mod motion_search;
 mod object;
 mod roles;
+mod small_part;
 mod spin;
 mod tree;
 mod unnamed;

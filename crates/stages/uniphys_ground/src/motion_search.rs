@@ -5,8 +5,9 @@
 //! 1. **Spin**: a part round about an axis turns continuously about it ([`crate::spin`]), unless it
 //!    is small (its box diagonal under a fifth of its parent's) and flat as a coin.
 //! 2. **Push or turn**: a small part that is a coin, or not round and flat, moves a short way into
-//!    its parent along the axis facing it (a button or a key); one that is not round but stands
-//!    out of the face by 40 % of its width or more is a knob with a grip and turns about that axis.
+//!    its parent along the normal of the face it sits on (a button or a key); one that is not
+//!    round but stands out of the face by 40 % of its width or more is a knob with a grip and
+//!    turns about that normal ([`crate::small_part`]).
 //! 3. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
 //!    corners, edge and face middles and centre, both directions) and every slide along a box axis
 //!    is swept outward from rest. Each gets its free range: how far it moves before it passes
@@ -28,11 +29,12 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use uniphys_geometry::{Aabb, DVec3, box_axes, principal_axes, projection_range};
+use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
 use crate::BUILTIN_PROVIDER;
+use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
 
 /// A part whose box diagonal is under this fraction of its parent's is pushed (a button).
@@ -40,12 +42,6 @@ const SMALL_PART_FRACTION: f64 = 0.2;
 /// A round small part whose length along its axis is under this fraction of its width is a
 /// coin (a round button, pushed); above it a stub (a knob, turned).
 const COIN_RATIO: f64 = 0.2;
-/// A small part that is not round but stands out of its parent's face by this fraction of its
-/// width or more is gripped and turned (a knob with a grip bar); flatter ones are pushed.
-const KNOB_RATIO: f64 = 0.4;
-/// A small part whose own axis is within this angle (cosine of 20 degrees) of the normal of the
-/// face it touches its parent on moves along that normal.
-const FACE_NORMAL_COS: f64 = 0.939_692_6;
 /// A part whose thinnest box extent is under this fraction of the middle one is a panel (a
 /// door, a lid, a screen): it hinges first, slides only when it cannot hinge.
 const THIN_RATIO: f64 = 0.15;
@@ -53,7 +49,7 @@ const THIN_RATIO: f64 = 0.15;
 /// its parent (a drawer, a tray): it slides first, hinges only when it cannot slide.
 const INSIDE_SHARE_MIN: f64 = 0.5;
 /// Parts within this fraction of the object's diagonal touch.
-const TOUCH_FRACTION: f64 = 0.01;
+pub(crate) const TOUCH_FRACTION: f64 = 0.01;
 /// A slide is supported while at least this many of the part's samples touch its parent.
 const SUPPORT_POINTS_MIN: usize = 6;
 /// Hinges are swept from rest to half a turn.
@@ -67,8 +63,6 @@ const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
 /// A handle stands out of the part's outer face by at least this share of the face's thickness.
 const HANDLE_STAND_OUT_FRACTION: f64 = 0.25;
-/// A push travels this share of the part's depth along its axis.
-const PUSH_TRAVEL_FRACTION: f64 = 0.5;
 /// Steps of each candidate's sweep.
 const STEPS: usize = 16;
 
@@ -86,16 +80,16 @@ pub(crate) struct Motion {
     pub(crate) summary: String,
 }
 
-/// The part's box: axes, projection ranges, centre and diagonal.
-struct PartBox {
-    axes: [DVec3; 3],
-    ranges: [(f64, f64); 3],
-    centre: DVec3,
-    diagonal: f64,
+/// A part's box: axes, projection ranges, centre and diagonal.
+pub(crate) struct PartBox {
+    pub(crate) axes: [DVec3; 3],
+    pub(crate) ranges: [(f64, f64); 3],
+    pub(crate) centre: DVec3,
+    pub(crate) diagonal: f64,
 }
 
 impl PartBox {
-    fn of(points: &[DVec3]) -> Self {
+    pub(crate) fn of(points: &[DVec3]) -> Self {
         let axes = box_axes(points);
         let ranges = axes.map(|a| projection_range(points, a));
         let centre = (0..3)
@@ -114,7 +108,7 @@ impl PartBox {
         }
     }
 
-    fn extent(&self, k: usize) -> f64 {
+    pub(crate) fn extent(&self, k: usize) -> f64 {
         (self.ranges[k].1 - self.ranges[k].0).max(0.0)
     }
 
@@ -167,70 +161,15 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         };
     }
     if small {
-        // The box axis facing the parent; a round coin pushes along its own axis.
-        let k = (0..3)
-            .max_by(|&a, &b| {
-                let facing = |k: usize| part.axes[k].dot(inward).abs();
-                facing(a).total_cmp(&facing(b))
-            })
-            .unwrap_or(0);
-        // It moves along the normal of the face it sits on: the plane through the samples where
-        // it touches its parent (a slanted control panel) when that is close to its own axis.
-        let own = spin.map_or(part.axes[k], |s| s.axis);
-        let touch_m = TOUCH_FRACTION * scene.diagonal_m;
-        let touching: Vec<DVec3> = child_points
-            .iter()
-            .copied()
-            .filter(|p| scene.distance_to_surface_m(mover.parent, *p) <= touch_m)
-            .collect();
-        let face = (touching.len() >= 12).then(|| principal_axes(&touching)[2]);
-        let normal = face
-            .filter(|f| f.dot(own).abs() >= FACE_NORMAL_COS)
-            .unwrap_or(own);
-        let normal = if normal.dot(inward) < 0.0 {
-            -normal
-        } else {
-            normal
-        };
-        let depth = extent_along(&child_points, normal);
-        let width = {
-            let (u, v) = (
-                normal.any_orthonormal_vector(),
-                normal.cross(normal.any_orthonormal_vector()),
-            );
-            extent_along(&child_points, u).max(extent_along(&child_points, v))
-        };
-        let share = 100.0 * part.diagonal / parent_diagonal.max(1e-12);
-        if spin.is_none() && depth >= KNOB_RATIO * width {
-            return Motion {
-                joint: Some(joint(
-                    mover,
-                    JointKind::Continuous,
-                    normal,
-                    part.centre,
-                    None,
-                    "a small part standing out of its parent's face: turned".to_owned(),
-                )),
-                summary: format!(
-                    "small ({share:.0} % of its parent's size), standing out {:.0} % of its width: a knob, continuous",
-                    100.0 * depth / width.max(1e-12)
-                ),
-            };
-        }
-        let travel = PUSH_TRAVEL_FRACTION * depth;
-        return Motion {
-            joint: Some(joint(
-                mover,
-                JointKind::Prismatic,
-                normal,
-                part.centre,
-                Some(travel.max(1e-6)),
-                "a small part on its parent's face: pushed in".to_owned(),
-            )),
-            summary: format!(
-                "small ({share:.0} % of its parent's size) and flat or square: pushed {travel:.4} into its parent"
-            ),
-        };
+        return small_part_motion(
+            scene,
+            mover,
+            &child_points,
+            &part,
+            spin,
+            inward,
+            part.diagonal / parent_diagonal.max(1e-12),
+        );
     }
     let hypotheses = hypotheses(mover, &part);
     let params = SweepParams {
@@ -450,7 +389,7 @@ fn supported_travel(
 }
 
 /// Length of the points' projection on a unit direction.
-fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
+pub(crate) fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
     let (lo, hi) = projection_range(points, d);
     (hi - lo).max(0.0)
 }
@@ -524,7 +463,7 @@ fn free_range(m: &SweepMetrics, upper: f64) -> f64 {
     failed.map_or(upper, |q| (q - step).max(0.0))
 }
 
-fn joint(
+pub(crate) fn joint(
     mover: &Mover<'_>,
     kind: JointKind,
     axis: DVec3,

@@ -9,7 +9,7 @@ use uniphys_verify::Scene;
 use crate::BUILTIN_PROVIDER;
 use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word};
 use crate::hypotheses::SCREEN_SAMPLES;
-use crate::motion_search::{Mover, find_motion};
+use crate::motion_search::{Mover, TOUCH_FRACTION, find_motion};
 use crate::roles::{Role, role_of};
 use crate::tree::build_tree_by_size;
 
@@ -19,8 +19,6 @@ use crate::tree::build_tree_by_size;
 const FIXED_ATTACHMENTS: [&str; 4] = ["handle", "grip", "pull", "hinge"];
 /// Parts at least this fraction of the largest part's size are candidates for the root.
 const BIG_FRACTION: f64 = 0.5;
-/// Parts closer than this fraction of the object's diagonal touch.
-const TOUCH_FRACTION: f64 = 0.01;
 
 /// Root, one joint per other part, and notes on every choice; the scene's error when the parts
 /// cannot be swept (an object without extent).
