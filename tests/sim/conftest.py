@@ -1,5 +1,7 @@
-"""Shared fixtures: run `uniphys run` on every example asset and on every URDF with movable joints
-in PyBullet's data folder, once per session, two at a time."""
+"""Shared fixtures: run `uniphys run` on every example asset, on every URDF with movable joints in
+PyBullet's data folder, and on a few real PartNet-Mobility objects of the shared set with their
+joints ignored (so the built-in grounder articulates them from geometry), once per session, two at
+a time."""
 
 import glob
 import json
@@ -16,6 +18,12 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((REPO / "test_data" / "examples").glob("*.glb"))
+# Real objects beside the repository (never copied into it); run with `--ignore-joints`, so what
+# the simulators load are the joints the grounder found: a cabinet (door and drawer), an oven
+# (drawer and eight knobs), a laptop, a bottle with its cap, a cart with four wheels, a table with
+# three drawers.
+PARTNET = REPO.parent / "shared" / "data" / "partnet-mobility"
+PARTNET_OBJECTS = ["kitchen-46236", "kitchen-101921", "gensim2-11248", "kitchen-3614", "kitchen-100491", "kitchen-26387"]
 MOVABLE = re.compile(r'<joint[^>]*type\s*=\s*"(revolute|prismatic|continuous)"')
 
 
@@ -53,9 +61,9 @@ class Export:
         return self.returncode in (0, 1)
 
 
-def _run(binary: str, source: Path, out: Path) -> tuple[int, str, dict]:
+def _run(binary: str, source: Path, out: Path, extra: list[str]) -> tuple[int, str, dict]:
     proc = subprocess.run(
-        [binary, "run", str(source), "--out", str(out), "--json"],
+        [binary, "run", str(source), "--out", str(out), "--json", *extra],
         capture_output=True,
         text=True,
         timeout=600,
@@ -68,6 +76,7 @@ def _inputs():
     items = [(f"example/{p.stem}", p) for p in EXAMPLES]
     root, urdfs = pybullet_urdfs()
     items += [(f"pybullet/{p.relative_to(root).with_suffix('')}", p) for p in urdfs]
+    items += [(f"partnet/{name}", PARTNET / name) for name in PARTNET_OBJECTS]
     return items
 
 
@@ -82,7 +91,10 @@ def exports() -> dict[str, Export]:
     def one(item):
         name, source = item
         out = work / name.replace("/", "__")
-        code, stderr, summary = _run(binary, source, out)
+        if name.startswith("partnet/") and not (source / "mobility.urdf").is_file():
+            return name, Export(name, source, out, 2, f"the shared PartNet-Mobility object {source} is missing: these checks need ../shared/data/partnet-mobility beside the repository", {})
+        extra = ["--ignore-joints"] if name.startswith("partnet/") else []
+        code, stderr, summary = _run(binary, source, out, extra)
         return name, Export(name, source, out, code, stderr, summary)
 
     with ThreadPoolExecutor(max_workers=2) as pool:
@@ -90,10 +102,11 @@ def exports() -> dict[str, Export]:
 
 
 def exported(exports: dict[str, Export], name: str) -> Export:
-    """The export of `name`; examples must be exported, other inputs are skipped if rejected."""
+    """The export of `name`; examples and real objects must be exported, PyBullet's URDFs are
+    skipped if rejected."""
     e = exports[name]
     if not e.exported:
-        if name.startswith("example/"):
+        if name.startswith(("example/", "partnet/")):
             pytest.fail(f"uniphys rejected the example {name}: {e.stderr.strip()}")
         pytest.skip(f"ingest does not accept {e.source.name}: {e.stderr.strip().splitlines()[-1] if e.stderr.strip() else e.returncode}")
     return e
