@@ -132,8 +132,8 @@ fn pid(i: usize) -> PartId {
     PartId(u32::try_from(i).unwrap_or(u32::MAX))
 }
 
-/// Volume of the points' box on their own box axes, each side at least `floor_fraction` of
-/// the object's diagonal (a flat panel still has a size).
+/// Volume of the points' box on their own box axes, each side at least 1 % of the object's
+/// diagonal (a flat panel still has a size).
 fn box_volume(points: &[DVec3], object_diagonal_m: f64) -> f64 {
     if points.is_empty() {
         return 0.0;
