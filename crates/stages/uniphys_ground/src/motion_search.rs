@@ -63,6 +63,9 @@ const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
 /// A handle stands out of the part's outer face by at least this share of the face's thickness.
 const HANDLE_STAND_OUT_FRACTION: f64 = 0.25;
+/// Contacts within this share of the contact's extent from either end of a hinge axis hold the
+/// hinge.
+const HINGE_END_FRACTION: f64 = 0.15;
 /// Steps of each candidate's sweep.
 const STEPS: usize = 16;
 
@@ -230,8 +233,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
             let along = (0..3)
                 .map(|k| part.axes[k].dot(axis).abs() * part.extent(k))
                 .fold(0.0, f64::max);
-            let from_contact =
-                touching.iter().map(|p| line(*p)).sum::<f64>() / touching.len().max(1) as f64;
+            let from_contact = contact_off_line(&touching, pivot, axis);
             let score = free.min(FRAC_PI_2) / FRAC_PI_2
                 - 2.0 * m.hinge_mean_to_parent_m / part.diagonal.max(1e-12)
                 - 2.0 * from_contact / part.diagonal.max(1e-12)
@@ -340,6 +342,28 @@ fn handle_centre(
         .collect();
     let share = standing.len() as f64 / child_points.len().max(1) as f64;
     (0.01..=0.3).contains(&share).then(|| mean(&standing))
+}
+
+/// Mean distance from the hinge line (through `pivot` along `axis`) to where the part touches
+/// its parent. A hinge holds a part at both ends of its axis: when the part touches at both ends
+/// (a bucket handle's two attachments), only those contacts count, not the rest of a part that
+/// leans on its parent at rest.
+fn contact_off_line(touching: &[DVec3], pivot: DVec3, axis: DVec3) -> f64 {
+    let line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
+    let (lo, hi) = projection_range(touching, axis);
+    let end = HINGE_END_FRACTION * (hi - lo);
+    let near_ends: Vec<DVec3> = touching
+        .iter()
+        .copied()
+        .filter(|p| {
+            let t = p.dot(axis);
+            t <= lo + end || t >= hi - end
+        })
+        .collect();
+    let both_ends = near_ends.iter().any(|p| p.dot(axis) <= lo + end)
+        && near_ends.iter().any(|p| p.dot(axis) >= hi - end);
+    let counted = if both_ends { &near_ends[..] } else { touching };
+    counted.iter().map(|p| line(*p)).sum::<f64>() / counted.len().max(1) as f64
 }
 
 /// The largest `p . d` over the points.
