@@ -42,7 +42,8 @@ pub struct Articulation {
     pub notes: Vec<String>,
 }
 
-fn pid(i: usize) -> PartId {
+/// The id of the part at index `i`.
+pub(crate) fn pid(i: usize) -> PartId {
     PartId(u32::try_from(i).unwrap_or(u32::MAX))
 }
 
@@ -158,14 +159,7 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
     let n = parts.len();
     let roles: Vec<Role> = parts.iter().map(|p| role_of(p.name).0).collect();
     let volumes: Vec<f64> = parts.iter().map(|p| p.volume_m3).collect();
-    let mut distance = vec![vec![0.0; n]; n];
-    for i in 0..n {
-        for j in (i + 1)..n {
-            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
-            distance[i][j] = d;
-            distance[j][i] = d;
-        }
-    }
+    let distance = pairwise_distances(parts);
     let (root, parents) = crate::tree::build_tree(&roles, &volumes, &|i, j| distance[i][j]);
     let bounds: Vec<Aabb> = parts.iter().map(|p| p.mesh.bounds()).collect();
     let object_diagonal_m = bounds
@@ -281,6 +275,45 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
         );
     }
     (root, joints, notes)
+}
+
+/// The smallest distance between every two parts' meshes, metres (`distance[i][j]`).
+pub(crate) fn pairwise_distances(parts: &[PartInput<'_>]) -> Vec<Vec<f64>> {
+    let n = parts.len();
+    let mut distance = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in (i + 1)..n {
+            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
+            distance[i][j] = d;
+            distance[j][i] = d;
+        }
+    }
+    distance
+}
+
+/// A movable joint of the built-in grounder from `parent` to `child` (part indices), its range
+/// `[0, upper]` (none for a continuous joint), with `why` in its provenance.
+pub(crate) fn builtin_joint(
+    kind: JointKind,
+    (parent, child): (usize, usize),
+    axis: DVec3,
+    pivot: DVec3,
+    upper: Option<f64>,
+    why: String,
+) -> Joint {
+    Joint {
+        name: String::new(),
+        kind,
+        parent: pid(parent),
+        child: pid(child),
+        axis_in_object: axis.normalize().to_array(),
+        pivot_in_object_m: pivot.to_array(),
+        limits: upper.map(|upper| JointLimits { lower: 0.0, upper }),
+        damping: 0.0,
+        friction: 0.0,
+        coupled_parts: Vec::new(),
+        provenance: Provenance::provider(BUILTIN_PROVIDER, why),
+    }
 }
 
 fn parent_is(k: usize, i: usize, roles: &[Role], parent: &[Option<usize>]) -> bool {

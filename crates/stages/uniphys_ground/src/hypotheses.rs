@@ -3,13 +3,13 @@
 //! sweep's penalties plus simple priors.
 
 use uniphys_geometry::{DVec3, box_axes, projection_range};
-use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
+use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{
     ArticulationCandidates, PatchParams, Scene, SweepMetrics, SweepParams, articulation_candidates,
     parallel_map, sweep,
 };
 
-use crate::BUILTIN_PROVIDER;
+use crate::articulate::builtin_joint;
 
 /// Steps of each hypothesis sweep (the chosen joint is verified later with the full sweep).
 pub(crate) const SCREEN_STEPS: usize = 16;
@@ -116,12 +116,13 @@ pub(crate) fn best_joint(scene: &Scene, subject: &Subject<'_>) -> Option<Scored>
 }
 
 /// Length of the points' projection on a unit direction.
-fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
+pub(crate) fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
     let (lo, hi) = projection_range(points, d);
     (hi - lo).max(0.0)
 }
 
-fn mean(points: &[DVec3]) -> DVec3 {
+/// The mean of the points (the origin for none).
+pub(crate) fn mean(points: &[DVec3]) -> DVec3 {
     points.iter().sum::<DVec3>() / points.len().max(1) as f64
 }
 
@@ -275,18 +276,12 @@ fn joint(
     upper: f64,
     why: String,
 ) -> Joint {
-    let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
-    Joint {
-        name: String::new(),
+    builtin_joint(
         kind,
-        parent: id(subject.parent),
-        child: id(subject.child),
-        axis_in_object: axis.normalize().to_array(),
-        pivot_in_object_m: pivot.to_array(),
-        limits: Some(JointLimits { lower: 0.0, upper }),
-        damping: 0.0,
-        friction: 0.0,
-        coupled_parts: Vec::new(),
-        provenance: Provenance::provider(BUILTIN_PROVIDER, why),
-    }
+        (subject.parent, subject.child),
+        axis,
+        pivot,
+        Some(upper),
+        why,
+    )
 }

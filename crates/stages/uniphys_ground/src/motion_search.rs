@@ -30,10 +30,11 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
-use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
+use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
-use crate::BUILTIN_PROVIDER;
+use crate::articulate::builtin_joint;
+use crate::hypotheses::{extent_along, mean};
 use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
 
@@ -197,11 +198,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     );
     // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
     // screen's lower edge).
-    let touching: Vec<DVec3> = child_points
-        .iter()
-        .copied()
-        .filter(|p| scene.distance_to_surface_m(mover.parent, *p) <= touch_m)
-        .collect();
+    let touching = touching(scene, mover.parent, &child_points, touch_m);
     let parent_box = PartBox::of(&parent_points);
     let inside = inside_share(&child_points, &parent_box);
     let longest = part.sorted_extents()[2].max(1e-12);
@@ -301,10 +298,6 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     }
 }
 
-fn mean(points: &[DVec3]) -> DVec3 {
-    points.iter().sum::<DVec3>() / points.len().max(1) as f64
-}
-
 /// The centre of the part's handle, if it has one: the parts it carries, or the samples standing
 /// out of its outer face (the face of its thinnest box axis turned away from the parent, `away`)
 /// when they are between 1 % and 30 % of its surface.
@@ -366,6 +359,15 @@ fn contact_off_line(touching: &[DVec3], pivot: DVec3, axis: DVec3) -> f64 {
     counted.iter().map(|p| line(*p)).sum::<f64>() / counted.len().max(1) as f64
 }
 
+/// The points within `touch_m` of the own triangles of part `other`.
+pub(crate) fn touching(scene: &Scene, other: usize, points: &[DVec3], touch_m: f64) -> Vec<DVec3> {
+    points
+        .iter()
+        .copied()
+        .filter(|p| scene.distance_to_surface_m(other, *p) <= touch_m)
+        .collect()
+}
+
 /// The largest `p . d` over the points.
 fn support(points: &[DVec3], d: DVec3) -> f64 {
     projection_range(points, d).1
@@ -410,12 +412,6 @@ fn supported_travel(
         }
     }
     upper
-}
-
-/// Length of the points' projection on a unit direction.
-pub(crate) fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
-    let (lo, hi) = projection_range(points, d);
-    (hi - lo).max(0.0)
 }
 
 /// The signed box axis of the part that points at its parent: the one along which a small shift
@@ -495,18 +491,5 @@ pub(crate) fn joint(
     upper: Option<f64>,
     why: String,
 ) -> Joint {
-    let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
-    Joint {
-        name: String::new(),
-        kind,
-        parent: id(mover.parent),
-        child: id(mover.child),
-        axis_in_object: axis.normalize().to_array(),
-        pivot_in_object_m: pivot.to_array(),
-        limits: upper.map(|upper| JointLimits { lower: 0.0, upper }),
-        damping: 0.0,
-        friction: 0.0,
-        coupled_parts: Vec::new(),
-        provenance: Provenance::provider(BUILTIN_PROVIDER, why),
-    }
+    builtin_joint(kind, (mover.parent, mover.child), axis, pivot, upper, why)
 }

@@ -6,7 +6,8 @@ use uniphys_geometry::{DVec3, principal_axes};
 use uniphys_types::JointKind;
 use uniphys_verify::Scene;
 
-use crate::motion_search::{Motion, Mover, PartBox, TOUCH_FRACTION, extent_along, joint};
+use crate::hypotheses::extent_along;
+use crate::motion_search::{Motion, Mover, PartBox, TOUCH_FRACTION, joint, touching};
 use crate::spin::Spin;
 
 /// A small part that is not round but stands out of its parent's face by this fraction of its
@@ -41,11 +42,7 @@ pub(crate) fn small_part_motion(
     // it touches its parent (a slanted control panel) when that is close to its own axis.
     let own = spin.map_or(part.axes[k], |s| s.axis);
     let touch_m = TOUCH_FRACTION * scene.diagonal_m;
-    let touching: Vec<DVec3> = child_points
-        .iter()
-        .copied()
-        .filter(|p| scene.distance_to_surface_m(mover.parent, *p) <= touch_m)
-        .collect();
+    let touching = touching(scene, mover.parent, child_points, touch_m);
     let face = (touching.len() >= 12).then(|| principal_axes(&touching)[2]);
     let normal = face
         .filter(|f| f.dot(own).abs() >= FACE_NORMAL_COS)

@@ -2,14 +2,14 @@
 //! `Mesh.002`, `handle`): the tree from size and contact, each part's joint from its shape and
 //! sweeps of candidate motions ([`crate::motion_search`]).
 
-use uniphys_geometry::{DVec3, TriMesh, min_distance_m, projection_range};
+use uniphys_geometry::{DVec3, TriMesh, projection_range};
 use uniphys_types::{Joint, JointKind, PartId, Provenance};
 use uniphys_verify::Scene;
 
 use crate::BUILTIN_PROVIDER;
-use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word};
+use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word, pairwise_distances, pid};
 use crate::hypotheses::SCREEN_SAMPLES;
-use crate::motion_search::{Mover, TOUCH_FRACTION, find_motion};
+use crate::motion_search::{Mover, TOUCH_FRACTION, find_motion, touching};
 use crate::roles::{Role, role_of};
 use crate::tree::build_tree_by_size;
 
@@ -29,14 +29,7 @@ pub(crate) fn unnamed_joints(
     let meshes: Vec<TriMesh> = parts.iter().map(|p| p.mesh.clone()).collect();
     let colliders: Vec<Vec<TriMesh>> = parts.iter().map(|p| p.colliders.to_vec()).collect();
     let scene = Scene::new(&meshes, &colliders, SCREEN_SAMPLES).map_err(|e| e.to_string())?;
-    let mut distance = vec![vec![0.0; n]; n];
-    for i in 0..n {
-        for j in (i + 1)..n {
-            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
-            distance[i][j] = d;
-            distance[j][i] = d;
-        }
-    }
+    let distance = pairwise_distances(parts);
     // The root carries the others: among the big parts (at least half the size of the largest),
     // the one touching the most big parts, then the heaviest (solid volume): a cabinet's body, a
     // laptop's base rather than its screen, a bottle rather than its cap; a handle on a door
@@ -69,10 +62,7 @@ pub(crate) fn unnamed_joints(
     for i in 0..n {
         let points = scene.points_of(&[i]);
         for j in (0..n).filter(|&j| j != i && distance[i][j] <= touch_m) {
-            contact[i][j] = points
-                .iter()
-                .filter(|p| scene.distance_to_surface_m(j, **p) <= touch_m)
-                .count() as f64;
+            contact[i][j] = touching(&scene, j, &points, touch_m).len() as f64;
         }
     }
     let (root, parents) = build_tree_by_size(&sizes, &|i, j| contact[i][j], &|i, j| distance[i][j]);
@@ -126,10 +116,6 @@ pub(crate) fn unnamed_joints(
         }));
     }
     Ok((root, joints, notes))
-}
-
-fn pid(i: usize) -> PartId {
-    PartId(u32::try_from(i).unwrap_or(u32::MAX))
 }
 
 /// Volume of the points' box on their own box axes, each side at least 1 % of the object's

@@ -5,8 +5,7 @@
 //! 10 degrees; hinges also with their line within 5 % of the object's size. `articulation-bench
 //! --partnet` measures the whole set.
 
-use std::path::PathBuf;
-
+use uniphys_examples::shared_partnet_object;
 use uniphys_geometry::DVec3;
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_pipeline::{NoProgress, RunOptions, run};
@@ -17,25 +16,13 @@ const MAX_AXIS_ERROR_DEG: f64 = 10.0;
 /// largest side (0.1 in the paper's [0, 2] frame).
 const MAX_PIVOT_ERROR_FRACTION: f64 = 0.05;
 
-fn object_dir(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../../shared/data/partnet-mobility")
-        .join(name);
-    assert!(
-        dir.join("mobility.urdf").is_file(),
-        "the shared PartNet-Mobility object {} is missing: these tests need ../shared/data/partnet-mobility beside the repository",
-        dir.display()
-    );
-    dir
-}
-
 fn slides(kind: JointKind) -> bool {
     kind == JointKind::Prismatic
 }
 
 /// Runs the pipeline on the object with its joints ignored and checks every true movable joint.
 fn check(name: &str, check_pivots: bool) {
-    let dir = object_dir(name);
+    let dir = shared_partnet_object(name);
     let mut truth = load_asset(&dir, &IngestOptions::default())
         .expect("ingest")
         .asset;

@@ -3,24 +3,11 @@
 //! grounder's (swept and correctable) pass unchanged, and deliberately broken ones are caught
 //! and put back. `scripts/bench` (verify-bench) measures the whole set.
 
-use std::path::PathBuf;
-
+use uniphys_examples::shared_partnet_object;
 use uniphys_geometry::{ConvexParams, DVec3, TriMesh, convex_decomposition};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
 use uniphys_verify::{Scene, SweepParams, parallel_map, verify_joint};
-
-fn object_dir(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../../shared/data/partnet-mobility")
-        .join(name);
-    assert!(
-        dir.join("mobility.urdf").is_file(),
-        "the shared PartNet-Mobility object {} is missing: these tests need ../shared/data/partnet-mobility beside the repository",
-        dir.display()
-    );
-    dir
-}
 
 struct Object {
     scene: Scene,
@@ -29,7 +16,8 @@ struct Object {
 }
 
 fn object(name: &str) -> Object {
-    let mut loaded = load_asset(&object_dir(name), &IngestOptions::default()).expect("ingest");
+    let mut loaded =
+        load_asset(&shared_partnet_object(name), &IngestOptions::default()).expect("ingest");
     loaded.asset.rest_on_ground();
     let meshes: Vec<TriMesh> = loaded.asset.parts.iter().map(|p| p.mesh.clone()).collect();
     let colliders: Vec<Vec<TriMesh>> = parallel_map(&meshes, |m| {

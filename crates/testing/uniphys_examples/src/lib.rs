@@ -17,6 +17,8 @@
 //! - [`ExampleAsset`] and [`ExpectedJoint`]: the ground-truth types (`example_asset`).
 //! - `cabinet`, `laptop`, `box_with_lid`, `mug`: one example each.
 //! - [`catalogue()`], [`example`], [`write_catalogue`]: the list of examples (`catalogue`).
+//! - [`shared_partnet_object`]: the folder of a real object of the shared PartNet-Mobility set
+//!   beside the repository, for tests on real data (`shared_objects`).
 
 mod assembly;
 mod box_with_lid;
@@ -30,8 +32,10 @@ mod laptop;
 mod materials;
 mod mug;
 pub mod shapes;
+mod shared_objects;
 
 pub use catalogue::{EXAMPLE_NAMES, catalogue, example, write_catalogue};
 pub use error::ExamplesError;
 pub use example_asset::{ExampleAsset, ExpectedJoint};
 pub use glb_writer::{GlbFrame, write_glb};
+pub use shared_objects::shared_partnet_object;
