@@ -9,7 +9,8 @@
 //!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
 //!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
 //!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge, parts in
-//!   an opening slide, the range being the free range; otherwise part names say which parts
+//!   an opening slide; a slide's range is its free travel, a hinge's comes from sweeping it both
+//!   ways with the stops real hinges have (`hinge_range`); otherwise part names say which parts
 //!   slide or turn and the joint of each is chosen by sweeping hypotheses (`hypotheses`:
 //!   candidate axes x pivots x direction from the contact with its parent) with simple priors;
 //!   passive dynamics from the moving parts' inertia
@@ -18,6 +19,7 @@
 mod articulate;
 mod dynamics;
 mod error;
+mod hinge_range;
 mod hypotheses;
 mod intrinsic;
 mod joint_geometry;

@@ -24,8 +24,9 @@
 //!
 //!    Among hinges, the one with the widest free turn (up to a quarter turn) whose line runs along
 //!    its parent and through where the part touches it wins; a line along the long edge, and far
-//!    from the handle (standing out of the outer face, or a part it carries), break ties. The
-//!    range is the free range.
+//!    from the handle (standing out of the outer face, or a part it carries), break ties. A
+//!    slide's range is its free range; a hinge is swept again both ways for its range
+//!    ([`crate::hinge_range`]).
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -34,6 +35,7 @@ use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
 use crate::articulate::builtin_joint;
+use crate::hinge_range::hinge_range;
 use crate::hypotheses::{extent_along, mean};
 use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
@@ -117,7 +119,7 @@ impl PartBox {
     }
 
     /// Extents sorted from thinnest to thickest.
-    fn sorted_extents(&self) -> [f64; 3] {
+    pub(crate) fn sorted_extents(&self) -> [f64; 3] {
         let mut e = [self.extent(0), self.extent(1), self.extent(2)];
         e.sort_by(f64::total_cmp);
         e
@@ -278,13 +280,15 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     );
     match chosen {
         Some((mut joint, free, _)) => {
-            if let Some(limits) = joint.limits.as_mut() {
-                limits.upper = free;
-            }
             let kind = if joint.kind == JointKind::Prismatic {
-                "slides"
+                if let Some(limits) = joint.limits.as_mut() {
+                    limits.upper = free;
+                }
+                "slides".to_owned()
             } else {
-                "hinges"
+                let why;
+                (joint, why) = hinge_range(scene, mover, &joint, &part, &parent_box, &child_points);
+                format!("hinges ({why})")
             };
             Motion {
                 joint: Some(joint),

@@ -19,6 +19,9 @@ use crate::tree::build_tree_by_size;
 const FIXED_ATTACHMENTS: [&str; 4] = ["handle", "grip", "pull", "hinge"];
 /// Parts at least this fraction of the largest part's size are candidates for the root.
 const BIG_FRACTION: f64 = 0.5;
+/// A root candidate whose box is this many times every other's is the root whatever its solid
+/// volume.
+const BULKIER_RATIO: f64 = 2.0;
 
 /// Root, one joint per other part, and notes on every choice; the scene's error when the parts
 /// cannot be swept (an object without extent).
@@ -31,9 +34,9 @@ pub(crate) fn unnamed_joints(
     let scene = Scene::new(&meshes, &colliders, SCREEN_SAMPLES).map_err(|e| e.to_string())?;
     let distance = pairwise_distances(parts);
     // The root carries the others: among the big parts (at least half the size of the largest),
-    // the one touching the most big parts, then the heaviest (solid volume): a cabinet's body, a
-    // laptop's base rather than its screen, a bottle rather than its cap; a handle on a door
-    // does not make the door the root.
+    // the one touching the most big parts, then the bulkiest ([`root_among`]): a cabinet's or a
+    // fridge's body, a laptop's base rather than its screen, a bottle rather than its cap; a
+    // handle on a door does not make the door the root.
     let touch_m = TOUCH_FRACTION * scene.diagonal_m;
     let diagonals: Vec<f64> = parts.iter().map(|p| p.mesh.bounds().diagonal()).collect();
     let largest = diagonals.iter().copied().fold(0.0, f64::max);
@@ -45,17 +48,16 @@ pub(crate) fn unnamed_joints(
                 .count()
         })
         .collect();
-    let root_part = (0..n)
-        .filter(|&i| big(i))
-        .max_by(|&a, &b| {
-            (touches[a], parts[a].volume_m3)
-                .partial_cmp(&(touches[b], parts[b].volume_m3))
-                .unwrap_or(std::cmp::Ordering::Equal)
-        })
-        .unwrap_or(0);
     let mut sizes: Vec<f64> = (0..n)
         .map(|i| box_volume(&scene.points_of(&[i]), scene.diagonal_m))
         .collect();
+    let most = (0..n)
+        .filter(|&i| big(i))
+        .map(|i| touches[i])
+        .max()
+        .unwrap_or(0);
+    let candidates: Vec<usize> = (0..n).filter(|&i| big(i) && touches[i] == most).collect();
+    let root_part = root_among(&candidates, &sizes, parts);
     sizes[root_part] = f64::INFINITY;
     // How many of part i's samples touch part j.
     let mut contact = vec![vec![0.0; n]; n];
@@ -68,7 +70,7 @@ pub(crate) fn unnamed_joints(
     let (root, parents) = build_tree_by_size(&sizes, &|i, j| contact[i][j], &|i, j| distance[i][j]);
     let mut joints = Vec::new();
     let mut notes = vec![format!(
-        "no part is named: {:?}, among the big parts the one touching the most big parts and then the heaviest, is the root; every other part hangs from the bigger part it touches most, and its joint comes from its shape and sweeps of its motions",
+        "no part is named: {:?}, among the big parts the one touching the most big parts and then the bulkiest, is the root; every other part hangs from the bigger part it touches most, and its joint comes from its shape and sweeps of its motions",
         parts[root.0 as usize].name
     )];
     for (i, parent) in parents.iter().enumerate() {
@@ -116,6 +118,29 @@ pub(crate) fn unnamed_joints(
         }));
     }
     Ok((root, joints, notes))
+}
+
+/// Among root candidates, the one whose box is at least `BULKIER_RATIO` times every other's (a
+/// fridge's hollow body against its door: a shell's solid volume says little), else the one with
+/// the most solid volume (a laptop's base against its screen, boxes alike).
+fn root_among(candidates: &[usize], box_volumes: &[f64], parts: &[PartInput<'_>]) -> usize {
+    let by = |key: &dyn Fn(usize) -> f64| {
+        candidates
+            .iter()
+            .copied()
+            .max_by(|&a, &b| key(a).total_cmp(&key(b)))
+    };
+    let Some(bulkiest) = by(&|i| box_volumes[i]) else {
+        return 0;
+    };
+    let clear = candidates
+        .iter()
+        .all(|&i| i == bulkiest || box_volumes[bulkiest] >= BULKIER_RATIO * box_volumes[i]);
+    if clear {
+        bulkiest
+    } else {
+        by(&|i| parts[i].volume_m3).unwrap_or(bulkiest)
+    }
 }
 
 /// Volume of the points' box on their own box axes, each side at least 1 % of the object's

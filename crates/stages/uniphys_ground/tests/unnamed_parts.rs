@@ -102,6 +102,62 @@ fn a_door_with_a_handle_hinges_on_the_edge_away_from_the_handle() {
     assert!(joint.limits.expect("limits").upper >= 1.4, "{joint:#?}");
 }
 
+/// Where the middle of `part` goes when `joint` turns it a little the positive way.
+fn moved_middle(joint: &Joint, part: &TriMesh, angle: f64) -> DVec3 {
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let middle = part.bounds().center();
+    pivot + DMat3::from_axis_angle(axis(joint).normalize(), angle) * (middle - pivot)
+}
+
+#[test]
+fn a_door_on_a_hollow_cabinet_opens_outward_a_quarter_turn() {
+    // Nothing inside the cabinet stops the door swinging in: only the hinge's stop does.
+    let cabinet = open_front_cabinet();
+    let b = cabinet.bounds();
+    let door = cuboid(
+        DVec3::new(b.min.x, b.min.y - 0.02, b.min.z),
+        DVec3::new(b.max.x, b.min.y, b.max.z),
+    );
+    let joint = joint_of_part_1(&[cabinet, door.clone()]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    let limits = joint.limits.expect("limits");
+    assert!(limits.lower.abs() < 1e-9, "closed at rest: {joint:#?}");
+    assert!(
+        (1.4..=std::f64::consts::FRAC_PI_2 + 1e-9).contains(&limits.upper),
+        "a quarter turn: {joint:#?}"
+    );
+    let opened = moved_middle(&joint, &door, 0.2);
+    assert!(
+        opened.y < door.bounds().center().y - 0.01,
+        "opens out of the front, not into the cabinet: {joint:#?}"
+    );
+}
+
+#[test]
+fn a_screen_open_at_rest_closes_onto_its_base_and_opens_further() {
+    let base = cuboid(DVec3::new(-0.15, -0.1, 0.0), DVec3::new(0.15, 0.1, 0.02));
+    // The screen stands on the base's back edge, tilted back 10 degrees past upright.
+    let upright = cuboid(DVec3::new(-0.15, 0.0, 0.0), DVec3::new(0.15, 0.008, 0.2));
+    let tilt = DMat4::from_translation(DVec3::new(0.0, 0.1, 0.02))
+        * DMat4::from_rotation_x(-10f64.to_radians());
+    let screen = upright.transformed(&tilt);
+    let joint = joint_of_part_1(&[base, screen]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    assert!(axis(&joint).x.abs() > 0.99, "{joint:#?}");
+    let limits = joint.limits.expect("limits");
+    // Closing takes it about 100 degrees down onto the keyboard; it opens at most to 135
+    // degrees from closed.
+    assert!(
+        (-1.9..=-1.4).contains(&limits.lower),
+        "closes onto the base: {joint:#?}"
+    );
+    let total = limits.upper - limits.lower;
+    assert!(
+        (1.9..=0.75 * std::f64::consts::PI + 1e-9).contains(&total),
+        "opens past upright, not round: {joint:#?}"
+    );
+}
+
 #[test]
 fn a_round_knob_on_a_face_spins_about_its_own_axis() {
     let body = cuboid(DVec3::new(-0.3, -0.25, 0.0), DVec3::new(0.3, 0.25, 0.7));

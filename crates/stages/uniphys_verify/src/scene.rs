@@ -77,6 +77,12 @@ impl Scene {
         self.surfaces.distance_m(part, point)
     }
 
+    /// Surface area of `part`'s own triangles, m^2 (0 for a part index out of range).
+    #[must_use]
+    pub fn area_m2(&self, part: usize) -> f64 {
+        self.areas_m2.get(part).copied().unwrap_or(0.0)
+    }
+
     /// Surface samples of the given parts, concatenated.
     #[must_use]
     pub fn points_of(&self, parts: &[usize]) -> Vec<DVec3> {

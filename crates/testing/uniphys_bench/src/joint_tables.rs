@@ -42,6 +42,9 @@ struct JointRow<'a> {
     axis_deg: Option<f64>,
     pivot: Option<f64>,
     limit_iou: Option<f64>,
+    /// Ground-truth and predicted ranges (radians, or the frame's units for slides).
+    gt_range: Option<[f64; 2]>,
+    pred_range: Option<[f64; 2]>,
 }
 
 fn joint_rows(result: &PoseResult) -> Vec<JointRow<'_>> {
@@ -60,16 +63,18 @@ fn joint_rows(result: &PoseResult) -> Vec<JointRow<'_>> {
             let pivot = prediction.filter(|_| g.motion_type == 'C').and_then(|p| {
                 point_to_line_distance(p.pivot_model?, sample.gt_pivot_model?, g.axis)
             });
-            let limit_iou = prediction.and_then(|p| {
-                let scale = if g.motion_type == 'B' {
-                    sample.frame_scale?
-                } else {
-                    1.0
-                };
-                let [lo, hi] = p.range?;
-                let [glo, ghi] = sample.gt_range?;
-                interval_iou([lo / scale, hi / scale], [glo / scale, ghi / scale])
-            });
+            let scale = if g.motion_type == 'B' {
+                sample.frame_scale
+            } else {
+                Some(1.0)
+            };
+            let scaled = |r: Option<[f64; 2]>| {
+                let s = scale?;
+                Some(r?.map(|v| v / s))
+            };
+            let gt_range = scaled(sample.gt_range);
+            let pred_range = scaled(sample.pred.as_ref().and_then(|p| p.range));
+            let limit_iou = prediction.and_then(|_| interval_iou(pred_range?, gt_range?));
             out.push(JointRow {
                 asset: &row.name,
                 category: &row.category,
@@ -79,10 +84,16 @@ fn joint_rows(result: &PoseResult) -> Vec<JointRow<'_>> {
                 axis_deg,
                 pivot,
                 limit_iou,
+                gt_range,
+                pred_range: pred_range.filter(|_| same_type),
             });
         }
     }
     out
+}
+
+fn range_cell(r: Option<[f64; 2]>) -> String {
+    r.map_or_else(|| "-".to_owned(), |[lo, hi]| format!("[{lo:.2}, {hi:.2}]"))
 }
 
 fn cell(v: Option<f64>, decimals: usize) -> String {
@@ -139,12 +150,12 @@ pub(crate) fn joint_sections(result: &PoseResult) -> String {
     }
     let _ = writeln!(
         out,
-        "\n### Every ground-truth movable joint\n\n| asset | category | part | GT | predicted | axis err (°) | pivot err | limit IoU |\n|---|---|---|---|---|---|---|---|"
+        "\n### Every ground-truth movable joint\n\n| asset | category | part | GT | predicted | axis err (°) | pivot err | GT range | predicted range | limit IoU |\n|---|---|---|---|---|---|---|---|---|---|"
     );
     for r in &rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.asset,
             r.category,
             r.child,
@@ -152,6 +163,8 @@ pub(crate) fn joint_sections(result: &PoseResult) -> String {
             r.pred,
             cell(r.axis_deg, 1),
             cell(r.pivot, 3),
+            range_cell(r.gt_range),
+            range_cell(r.pred_range),
             cell(r.limit_iou, 2)
         );
     }

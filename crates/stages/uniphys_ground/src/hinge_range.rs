@@ -1,0 +1,214 @@
+//! How far a chosen hinge turns, each way from rest, and which way is open (reference:
+//! real-articulated-objects.md: "it swings outward, away from the cavity", "the range is where
+//! the sweep first collides").
+//!
+//! The hinge line is swept both ways, up to a full turn, finer than the search that chose it.
+//! Each side's range is where the part first passes through another part or its axis leaves its
+//! parent. Then the stops a real hinge has and an isolated mesh does not show:
+//!
+//! - a sheet (a part whose surface fills its box's broad faces) closed at rest on a face of its
+//!   parent's box (a door, a flap, a lid) opens outward only, away from its parent, and a
+//!   quarter turn at most: the stop of a door's hinges, which an object standing alone cannot
+//!   show (a door of a hollow cabinet could otherwise swing into it);
+//! - another broad sheet (a laptop screen, a lid propped open) closes until it meets its parent
+//!   and opens at most 135 degrees from there (past upright, where such hinges stop);
+//! - anything else (a wire such as a bucket handle, a knife's blade, a lever) turns both ways
+//!   until it collides; where nothing the sweep sees stops it for nearly a whole turn, the range
+//!   of the search that chose the hinge stands.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use uniphys_geometry::{DVec3, projection_range};
+use uniphys_types::{Joint, JointLimits};
+use uniphys_verify::{Scene, SweepParams, parallel_map, sweep};
+
+use crate::hypotheses::mean;
+use crate::motion_search::{Mover, PartBox};
+
+/// Steps of each side's sweep over a full turn (7.5 degrees apart).
+const RANGE_STEPS: usize = 49;
+/// A panel whose middle box extent is at least this share of its longest is broad (a door, a
+/// lid); narrower ones are blades and levers.
+const BROAD_RATIO: f64 = 0.3;
+/// A part whose surface area is at least this share of its box's two broad faces is a sheet (a
+/// door, a screen); below it, a frame or a wire (a bucket handle).
+const SHEET_FILL_MIN: f64 = 0.3;
+/// A panel open at rest opens this far from where it closes (135 degrees: past upright, where a
+/// laptop's or a box lid's hinge stops).
+const OPEN_FROM_CLOSED_RAD: f64 = 0.75 * PI;
+/// A panel lies on a face of its parent's box when its thin axis is within this angle of the
+/// face's normal (cosine of 15 degrees) ...
+const ON_FACE_COS: f64 = 0.965_925_8;
+/// ... and its middle is within this share of the parent's extent along that normal (plus the
+/// panel's own thickness) of the face.
+const ON_FACE_FRACTION: f64 = 0.1;
+
+/// The chosen hinge with its axis turned to open positively and its range `[lower, upper]`
+/// (radians, rest at 0), and a few words on what bounded it.
+pub(crate) fn hinge_range(
+    scene: &Scene,
+    mover: &Mover<'_>,
+    hinge: &Joint,
+    part: &PartBox,
+    parent: &PartBox,
+    child_points: &[DVec3],
+) -> (Joint, &'static str) {
+    let axis = DVec3::from_array(hinge.axis_in_object);
+    let sides = [axis, -axis].map(|a| {
+        let mut j = hinge.clone();
+        j.axis_in_object = a.to_array();
+        j.limits = Some(JointLimits {
+            lower: 0.0,
+            upper: TAU,
+        });
+        j
+    });
+    let params = SweepParams {
+        steps: RANGE_STEPS,
+        ..SweepParams::default()
+    };
+    let step = TAU / (RANGE_STEPS - 1) as f64;
+    let free = parallel_map(&sides, |j| {
+        let m = sweep(scene, j, mover.moving, &params).ok()?;
+        Some(
+            m.failure_coordinate()
+                .map_or(TAU, |q| (q.abs() - step).max(0.0)),
+        )
+    });
+    let (Some(forward), Some(backward)) = (free[0], free[1]) else {
+        return (hinge.clone(), "range kept from the search");
+    };
+    let [_, middle, longest] = part.sorted_extents();
+    let sheet = scene.area_m2(mover.child) >= SHEET_FILL_MIN * 2.0 * middle * longest;
+    let broad = middle >= BROAD_RATIO * longest;
+    // The side on which the part's middle first moves away from its parent's middle.
+    let pivot = DVec3::from_array(hinge.pivot_in_object_m);
+    let centre = mean(child_points);
+    let away = axis.cross(centre - pivot).dot(centre - parent.centre) >= 0.0;
+    let (open_axis, opens, closes) = if away {
+        (axis, forward, backward)
+    } else {
+        (-axis, backward, forward)
+    };
+    let (open_axis, lower, upper, why) = if sheet && on_parent_face(child_points, part, parent) {
+        (
+            open_axis,
+            0.0,
+            opens.min(FRAC_PI_2),
+            "closed on its parent's face: opens outward, a quarter turn at most (a hinge's stop)",
+        )
+    } else if forward + backward >= TAU - 2.0 * step {
+        // Turning nearly a whole turn, it is not stopped by anything the sweep can see (a
+        // blade folded inside its handle has no surface clear of it to collide with).
+        return (
+            hinge.clone(),
+            "nothing seen stops it either way: the search's range",
+        );
+    } else if sheet && broad {
+        (
+            open_axis,
+            closes,
+            opens.min(OPEN_FROM_CLOSED_RAD - closes).max(0.0),
+            "open at rest: closes onto its parent, opens 135 degrees from closed",
+        )
+    } else {
+        let (a, up, down) = if forward >= backward {
+            (axis, forward, backward)
+        } else {
+            (-axis, backward, forward)
+        };
+        (a, down, up, "turns both ways until it collides")
+    };
+    let with_range = |lower: f64, upper: f64| {
+        let mut joint = hinge.clone();
+        joint.axis_in_object = open_axis.to_array();
+        joint.limits = Some(JointLimits { lower, upper });
+        joint
+    };
+    // The verifier also judges the contact over the whole range: a range it would fail gives way
+    // to the opening side alone, then to the search's own range. Where all fail on this coarse
+    // scene, the reasoned range stands and the verifier, with its denser samples, judges it.
+    let choices = [
+        (with_range(-lower, upper), why),
+        (
+            with_range(0.0, upper),
+            "the closing side fails the contact checks: opens only",
+        ),
+        (
+            hinge.clone(),
+            "the sweeps' ranges fail the contact checks: the search's range",
+        ),
+    ];
+    let passes = |j: &Joint| {
+        let range = j.limits.map_or(0.0, |l| l.upper - l.lower);
+        range > 0.0
+            && sweep(scene, j, mover.moving, &params).is_ok_and(|m| m.failures(&params).is_empty())
+    };
+    choices
+        .iter()
+        .find(|(j, _)| passes(j))
+        .cloned()
+        .unwrap_or_else(|| choices[0].clone())
+}
+
+/// Whether a panel lies on a face of its parent's box: its thin axis along the face's normal, its
+/// middle near the face (an inset door just inside it, an overlay door just outside) and over
+/// it (not beside it, as a door swung open).
+fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> bool {
+    let thin = (0..3)
+        .min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))
+        .unwrap_or(0);
+    (0..3).any(|k| {
+        let normal = parent.axes[k];
+        if part.axes[thin].dot(normal).abs() < ON_FACE_COS {
+            return false;
+        }
+        let (lo, hi) = projection_range(child_points, normal);
+        let middle = 0.5 * (lo + hi);
+        let tolerance = ON_FACE_FRACTION * parent.extent(k) + (hi - lo);
+        let (face_lo, face_hi) = parent.ranges[k];
+        let near_face =
+            (middle - face_lo).abs() <= tolerance || (middle - face_hi).abs() <= tolerance;
+        // Over the face, not beside it: its middle within the face's extent.
+        let over_face = (0..3).filter(|&m| m != k).all(|m| {
+            let c = part.centre.dot(parent.axes[m]);
+            c >= parent.ranges[m].0 && c <= parent.ranges[m].1
+        });
+        near_face && over_face
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points filling the box `[lo, hi]` on a grid.
+    fn grid(lo: DVec3, hi: DVec3) -> Vec<DVec3> {
+        let n = 6;
+        let mut out = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                for k in 0..=n {
+                    let t = DVec3::new(i as f64, j as f64, k as f64) / n as f64;
+                    out.push(lo + (hi - lo) * t);
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_panel_on_its_parents_face_is_closed_and_one_standing_off_it_is_not() {
+        let body = PartBox::of(&grid(DVec3::ZERO, DVec3::new(0.5, 0.6, 1.0)));
+        let door = grid(DVec3::new(0.5, 0.0, 0.0), DVec3::new(0.52, 0.6, 1.0));
+        assert!(on_parent_face(&door, &PartBox::of(&door), &body));
+        let inset = grid(DVec3::new(0.46, 0.02, 0.02), DVec3::new(0.48, 0.58, 0.98));
+        assert!(on_parent_face(&inset, &PartBox::of(&inset), &body));
+        // The same door swung a quarter turn stands out of the face, edge on.
+        let open = grid(DVec3::new(0.5, 0.0, 0.0), DVec3::new(1.1, 0.02, 1.0));
+        assert!(!on_parent_face(&open, &PartBox::of(&open), &body));
+        // A blade folded into the middle of its handle lies on no face.
+        let blade = grid(DVec3::new(0.24, 0.05, 0.1), DVec3::new(0.26, 0.55, 0.9));
+        assert!(!on_parent_face(&blade, &PartBox::of(&blade), &body));
+    }
+}
