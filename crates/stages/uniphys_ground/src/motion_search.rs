@@ -16,8 +16,8 @@
 //!    - A part that is not a thin panel (thickness at least 15 % of its width) and lies mostly
 //!      inside its parent's box (a drawer, a tray) slides when it can slide out of its opening:
 //!      along the box axis in which its parent encloses it least, in which it is deep (at least
-//!      15 % of its longest extent), keeping touching the parent over 30 % of that depth. Else it
-//!      hinges when some hinge turns it freely by 30 degrees or more.
+//!      15 % of its longest extent, and not a slab's thickness), keeping touching the parent over
+//!      30 % of that depth. Else it hinges when some hinge turns it freely by 30 degrees or more.
 //!    - A thin panel (a door, a lid, a screen) or a part outside its parent (a handle) hinges
 //!      first, then slides, by the same tests.
 //!    - A part that can do neither is fixed.
@@ -64,6 +64,12 @@ const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
 /// A part slides only along a direction in which it is at least this deep, as a share of its
 /// longest extent (a drawer's depth, not a door's thickness).
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
+/// A part whose thinnest box extent is under this fraction of the middle one is a slab: it does
+/// not slide along its thinnest axis (a thick door is not a drawer) ...
+const SLAB_RATIO: f64 = 0.5;
+/// ... which is a direction in which it is no deeper than this many times its thinnest extent
+/// (box axes and slide axes agree to a few percent).
+const SLAB_DEPTH_SLACK: f64 = 1.1;
 /// A handle stands out of the part's outer face by at least this share of the face's thickness.
 const HANDLE_STAND_OUT_FRACTION: f64 = 0.25;
 /// Contacts within this share of the contact's extent from either end of a hinge axis hold the
@@ -248,11 +254,16 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     let hinge = best(&mut hinges).filter(|(_, free, _)| *free >= HINGE_FREE_MIN_RAD);
     // A part slides out of its opening along its depth: only the way out counts, and it must be
     // deep that way (a door's way out is through its thin face) and travel most of that depth.
+    // A slab (a thick door) does not slide out through its own face: only its thickness would
+    // clear the opening.
+    let [thin, middle, _] = part.sorted_extents();
+    let slab = thin < SLAB_RATIO * middle;
     let slide = best(&mut slides).filter(|(joint, free, _)| {
         let depth = extent_along(&child_points, DVec3::from_array(joint.axis_in_object));
-        depth >= SLIDE_DEPTH_MIN_FRACTION * longest && *free >= SLIDE_FREE_MIN_FRACTION * depth
+        depth >= SLIDE_DEPTH_MIN_FRACTION * longest
+            && *free >= SLIDE_FREE_MIN_FRACTION * depth
+            && !(slab && depth <= SLAB_DEPTH_SLACK * thin)
     });
-    let [thin, middle, _] = part.sorted_extents();
     let panel = thin < THIN_RATIO * middle;
     let enclosed = !panel && inside >= INSIDE_SHARE_MIN;
     let chosen = if enclosed {
