@@ -128,17 +128,17 @@ pub(crate) fn hinge_range(
     // The verifier also judges the contact over the whole range: a range it would fail gives way
     // to the opening side alone, then to the search's own range. Where all fail on this coarse
     // scene, the reasoned range stands and the verifier, with its denser samples, judges it.
-    let choices = [
-        (with_range(-lower, upper), why),
-        (
+    let mut choices = vec![(with_range(-lower, upper), why)];
+    if lower > 0.0 {
+        choices.push((
             with_range(0.0, upper),
             "the closing side fails the contact checks: opens only",
-        ),
-        (
-            hinge.clone(),
-            "the sweeps' ranges fail the contact checks: the search's range",
-        ),
-    ];
+        ));
+    }
+    choices.push((
+        hinge.clone(),
+        "the sweeps' ranges fail the contact checks: the search's range",
+    ));
     let passes = |j: &Joint| {
         let range = j.limits.map_or(0.0, |l| l.upper - l.lower);
         range > 0.0
