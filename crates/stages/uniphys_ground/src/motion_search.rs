@@ -84,6 +84,8 @@ pub(crate) struct Mover<'a> {
     pub(crate) parent: usize,
     /// The child and the parts it carries.
     pub(crate) moving: &'a [usize],
+    /// Every part's box, by part index (computed once per asset).
+    pub(crate) boxes: &'a [PartBox],
 }
 
 /// The chosen joint (`None` for fixed) and a one-line account of the choice for the report.
@@ -151,11 +153,11 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
             summary: "too little surface to judge a motion; fixed".to_owned(),
         };
     }
-    let part = PartBox::of(&child_points);
-    let inward = toward_parent(scene, mover, &child_points, &part);
+    let part = &mover.boxes[mover.child];
+    let inward = toward_parent(scene, mover, &child_points, part);
     let parent_diagonal = Aabb::from_points(&parent_points).diagonal();
     let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
-    let spin = spin_axis(scene, mover.child, &child_points, part.axes, inward);
+    let spin = spin_axis(scene, mover.child, &child_points, part, inward);
     if let Some(spin) = spin.filter(|s| !small || s.length_over_width >= COIN_RATIO) {
         return Motion {
             joint: Some(joint(
@@ -177,13 +179,13 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
             scene,
             mover,
             &child_points,
-            &part,
+            part,
             spin,
             inward,
             part.diagonal / parent_diagonal.max(1e-12),
         );
     }
-    let hypotheses = hypotheses(mover, &part);
+    let hypotheses = hypotheses(mover, part);
     let params = SweepParams {
         steps: STEPS,
         ..SweepParams::default()
@@ -201,14 +203,14 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         scene,
         mover,
         &child_points,
-        &part,
+        part,
         part.centre - mean(&parent_points),
     );
     // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
     // screen's lower edge).
     let touching = touching(scene, mover.parent, &child_points, touch_m);
-    let parent_box = PartBox::of(&parent_points);
-    let inside = inside_share(&child_points, &parent_box);
+    let parent_box = &mover.boxes[mover.parent];
+    let inside = inside_share(&child_points, parent_box);
     let longest = part.sorted_extents()[2].max(1e-12);
     let mut hinges = Vec::new();
     let mut slides = Vec::new();
@@ -298,7 +300,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
                 "slides".to_owned()
             } else {
                 let why;
-                (joint, why) = hinge_range(scene, mover, &joint, &part, &parent_box, &child_points);
+                (joint, why) = hinge_range(scene, mover, &joint, part, parent_box, &child_points);
                 format!("hinges ({why})")
             };
             Motion {

@@ -8,7 +8,7 @@ use uniphys_verify::Scene;
 
 use crate::hypotheses::extent_along;
 use crate::motion_search::{Motion, Mover, PartBox, TOUCH_FRACTION, joint, touching};
-use crate::spin::Spin;
+use crate::spin::{Spin, across};
 
 /// A small part that is not round but stands out of its parent's face by this fraction of its
 /// width or more is gripped and turned (a knob with a grip bar); flatter ones are pushed.
@@ -54,10 +54,7 @@ pub(crate) fn small_part_motion(
     };
     let depth = extent_along(child_points, normal);
     let width = {
-        let (u, v) = (
-            normal.any_orthonormal_vector(),
-            normal.cross(normal.any_orthonormal_vector()),
-        );
+        let (u, v) = across(normal);
         extent_along(child_points, u).max(extent_along(child_points, v))
     };
     let share = 100.0 * size_share;

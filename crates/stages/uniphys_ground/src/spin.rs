@@ -9,6 +9,9 @@
 use uniphys_geometry::{DQuat, DVec3, principal_axes, projection_range};
 use uniphys_verify::Scene;
 
+use crate::hypotheses::extent_along;
+use crate::motion_search::PartBox;
+
 /// Turns at which the part is compared with itself, radians (30, 75 and 130 degrees): no
 /// rectangle or square maps onto itself at any of them, a round part does at all.
 const TURNS_RAD: [f64; 3] = [
@@ -41,7 +44,7 @@ pub(crate) struct Spin {
 }
 
 /// Two unit vectors completing `axis` to an orthonormal frame.
-fn across(axis: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn across(axis: DVec3) -> (DVec3, DVec3) {
     let u = axis.any_orthonormal_vector();
     (u, axis.cross(u))
 }
@@ -77,28 +80,20 @@ fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tole
         .fold(1.0, f64::min)
 }
 
-/// The axis `part` (sampled at `points`, box axes `axes`) is round about, if any; when several
+/// The axis `part` (sampled at `points`, its box `part_box`) is round about, if any; when several
 /// are (a ball), the one most aligned with `prefer` (toward the parent).
 pub(crate) fn spin_axis(
     scene: &Scene,
     part: usize,
     points: &[DVec3],
-    axes: [DVec3; 3],
+    part_box: &PartBox,
     prefer: DVec3,
 ) -> Option<Spin> {
     if points.len() < 16 {
         return None;
     }
-    let diagonal = axes
-        .iter()
-        .map(|a| {
-            let (lo, hi) = projection_range(points, *a);
-            (hi - lo).powi(2)
-        })
-        .sum::<f64>()
-        .sqrt();
-    let tolerance = ON_SURFACE_FRACTION * diagonal;
-    let mut candidates: Vec<DVec3> = axes.to_vec();
+    let tolerance = ON_SURFACE_FRACTION * part_box.diagonal;
+    let mut candidates: Vec<DVec3> = part_box.axes.to_vec();
     candidates.extend(principal_axes(points));
     if prefer.length_squared() > 0.5 {
         candidates.push(prefer.normalize());
@@ -131,10 +126,7 @@ pub(crate) fn spin_axis(
         axis = unrefined;
     }
     let (u, v) = across(axis);
-    let extent = |d: DVec3| {
-        let (lo, hi) = projection_range(points, d);
-        (hi - lo).max(0.0)
-    };
+    let extent = |d: DVec3| extent_along(points, d);
     Some(Spin {
         axis,
         centre: centre_about(points, axis),

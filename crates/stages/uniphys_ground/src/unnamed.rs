@@ -2,14 +2,14 @@
 //! `Mesh.002`, `handle`): the tree from size and contact, each part's joint from its shape and
 //! sweeps of candidate motions ([`crate::motion_search`]).
 
-use uniphys_geometry::{DVec3, TriMesh, projection_range};
+use uniphys_geometry::{DVec3, TriMesh};
 use uniphys_types::{Joint, JointKind, PartId, Provenance};
 use uniphys_verify::Scene;
 
 use crate::BUILTIN_PROVIDER;
 use crate::articulate::{PartInput, carried_by, fixed_joint, kind_word, pairwise_distances, pid};
 use crate::hypotheses::SCREEN_SAMPLES;
-use crate::motion_search::{Mover, TOUCH_FRACTION, find_motion, touching};
+use crate::motion_search::{Mover, PartBox, TOUCH_FRACTION, find_motion, touching};
 use crate::roles::{Role, role_of};
 use crate::tree::build_tree_by_size;
 
@@ -48,8 +48,10 @@ pub(crate) fn unnamed_joints(
                 .count()
         })
         .collect();
+    let points: Vec<Vec<DVec3>> = (0..n).map(|i| scene.points_of(&[i])).collect();
+    let boxes: Vec<PartBox> = points.iter().map(|p| PartBox::of(p)).collect();
     let mut sizes: Vec<f64> = (0..n)
-        .map(|i| box_volume(&scene.points_of(&[i]), scene.diagonal_m))
+        .map(|i| box_volume(&points[i], &boxes[i], scene.diagonal_m))
         .collect();
     let most = (0..n)
         .filter(|&i| big(i))
@@ -62,9 +64,8 @@ pub(crate) fn unnamed_joints(
     // How many of part i's samples touch part j.
     let mut contact = vec![vec![0.0; n]; n];
     for i in 0..n {
-        let points = scene.points_of(&[i]);
         for j in (0..n).filter(|&j| j != i && distance[i][j] <= touch_m) {
-            contact[i][j] = touching(&scene, j, &points, touch_m).len() as f64;
+            contact[i][j] = touching(&scene, j, &points[i], touch_m).len() as f64;
         }
     }
     let (root, parents) = build_tree_by_size(&sizes, &|i, j| contact[i][j], &|i, j| distance[i][j]);
@@ -98,6 +99,7 @@ pub(crate) fn unnamed_joints(
                 child: i,
                 parent: p,
                 moving: &moving,
+                boxes: &boxes,
             },
         );
         let kind = motion.joint.as_ref().map_or(JointKind::Fixed, |j| j.kind);
@@ -143,18 +145,12 @@ fn root_among(candidates: &[usize], box_volumes: &[f64], parts: &[PartInput<'_>]
     }
 }
 
-/// Volume of the points' box on their own box axes, each side at least 1 % of the object's
-/// diagonal (a flat panel still has a size).
-fn box_volume(points: &[DVec3], object_diagonal_m: f64) -> f64 {
+/// Volume of the points' box (`part_box`, on their own box axes), each side at least 1 % of the
+/// object's diagonal (a flat panel still has a size); 0 without points.
+fn box_volume(points: &[DVec3], part_box: &PartBox, object_diagonal_m: f64) -> f64 {
     if points.is_empty() {
         return 0.0;
     }
     let floor = 0.01 * object_diagonal_m;
-    uniphys_geometry::box_axes(points)
-        .iter()
-        .map(|a| {
-            let (lo, hi) = projection_range(points, *a);
-            (hi - lo).max(floor)
-        })
-        .product()
+    (0..3).map(|k| part_box.extent(k).max(floor)).product()
 }
