@@ -5,6 +5,7 @@
 use parry3d::math::Vector;
 use parry3d::query::{PointQuery, Ray, RayCast};
 use uniphys_geometry::{Aabb, DVec3, KdTree, TriMesh};
+use uniphys_types::JointKind;
 
 use crate::motion::JointMotion;
 use crate::penetration::to_f32;
@@ -61,8 +62,8 @@ impl Surfaces {
     }
 
     /// Where the segment from `from` to `to` (object frame) first crosses the surface of
-    /// `part`, if it does.
-    pub(crate) fn crossing(&self, part: usize, from: DVec3, to: DVec3) -> Option<DVec3> {
+    /// `part`, if it does, with the crossed triangle's normal turned along the segment.
+    pub(crate) fn crossing(&self, part: usize, from: DVec3, to: DVec3) -> Option<Entry> {
         let s = self.parts.get(part)?.as_ref()?;
         let lo = from.min(to);
         let hi = from.max(to);
@@ -74,11 +75,71 @@ impl Surfaces {
         if length <= 0.0 {
             return None;
         }
-        let ray = Ray::new(to_f32(from - self.origin), to_f32(d / length));
-        let t = s.mesh.cast_local_ray(&ray, length as f32, false)?;
-        Some(from + d / length * f64::from(t))
+        let direction = d / length;
+        let ray = Ray::new(to_f32(from - self.origin), to_f32(direction));
+        let hit = s
+            .mesh
+            .cast_local_ray_and_get_normal(&ray, length as f32, false)?;
+        let normal = DVec3::new(
+            f64::from(hit.normal.x),
+            f64::from(hit.normal.y),
+            f64::from(hit.normal.z),
+        )
+        .normalize_or_zero();
+        let along = if normal.dot(direction) < 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        Some(Entry {
+            part,
+            point: from + direction * f64::from(hit.time_of_impact),
+            normal: along,
+            in_rest_space: false,
+        })
     }
 }
+
+/// Where a moving point went through a part's surface.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Entry {
+    /// The part whose surface was crossed.
+    part: usize,
+    /// The crossing, object frame.
+    point: DVec3,
+    /// The crossed triangle's unit normal, turned the way the point went through.
+    normal: DVec3,
+    /// Whether the crossing lies in the space the moving group filled at rest.
+    in_rest_space: bool,
+}
+
+impl Entry {
+    /// How far `point` lies beyond the crossed triangle's plane, metres (negative: back on the
+    /// side it came from).
+    fn depth_beyond_m(&self, point: DVec3) -> f64 {
+        (point - self.point).dot(self.normal)
+    }
+}
+
+/// Whether the segment from `from` to `to`, which crosses the surface of `entry.part`, still
+/// crosses it when shifted by `margin_m` to either side along the crossed triangle's plane: a
+/// crossing at least that far inside the surface's outline. A point on a face flush with the
+/// crossed part's own face (a drawer's side sliding along a leg) meets the edge of the face
+/// across its path and is only grazing it.
+fn inside_outline(scene: &Scene, entry: &Entry, from: DVec3, to: DVec3, margin_m: f64) -> bool {
+    let across = entry.normal.any_orthonormal_vector();
+    let other = entry.normal.cross(across);
+    [across, -across, other, -other].iter().all(|&side| {
+        let shift = side * margin_m;
+        scene
+            .surfaces
+            .crossing(entry.part, from + shift, to + shift)
+            .is_some()
+    })
+}
+
+/// Surfaces a point may be inside at once before the oldest is forgotten.
+const MAX_ENTRIES: usize = 4;
 
 /// Surface points of a moving group followed through a sweep: which of those clear of every
 /// other part at rest pass through another part's surface, outside the space the moving group
@@ -91,12 +152,21 @@ pub(crate) struct Crossings {
     /// Whether each clear point has passed through a surface (crossed it and gone deeper than
     /// `through_depth_m` beyond it).
     crossed: Vec<bool>,
-    /// The part each clear point has crossed the surface of but not yet gone deep beyond, and
-    /// whether it crossed it inside the space the moving group filled at rest.
-    touching: Vec<Option<(usize, bool)>>,
+    /// The surfaces each clear point has gone through but not yet deep beyond (at most
+    /// `MAX_ENTRIES`, the latest kept).
+    entries: Vec<Vec<Entry>>,
     /// How far beyond a crossed surface a point must go to count: less is a part closing onto
-    /// another (a lid on its box, a screen on its keyboard), which real limits are.
+    /// another (a lid on its box, a screen on its keyboard), which real limits are. A fraction
+    /// of the moving group's own size, as a limit set a degree or two long sinks a part's far
+    /// end by its length times that angle, whatever the object around it.
     through_depth_m: f64,
+    /// How near another part a moving point at rest is in contact with it, metres; a crossing
+    /// must lie this far inside the crossed surface's outline.
+    contact_m: f64,
+    /// The points move along straight lines (a slide), so the crossed plane measures how far
+    /// one went past a surface; a turning point curves away from it, and its depth is also at
+    /// most its distance to the crossed part (a knob's edge following the collar it overlaps).
+    straight: bool,
     /// How many clear points have crossed.
     pub(crate) crossed_count: usize,
     /// Still parts the moving group can reach, and how many points crossed each.
@@ -135,8 +205,8 @@ impl Crossings {
             })
             .map(|&p| (p, 0))
             .collect();
-        let contact_m = (params.rest_contact_part_fraction * bounds.diagonal())
-            .min(params.rest_contact_object_fraction * scene.diagonal_m);
+        let through_depth_m = params.rest_contact_part_fraction * bounds.diagonal();
+        let contact_m = through_depth_m.min(params.rest_contact_object_fraction * scene.diagonal_m);
         let clear: Vec<usize> = (0..moving_points.len())
             .filter(|&i| {
                 near.iter()
@@ -148,9 +218,12 @@ impl Crossings {
         Self {
             previous: clear.iter().map(|&i| moving_points[i]).collect(),
             crossed: vec![false; clear.len()],
-            touching: vec![None; clear.len()],
-            through_depth_m: contact_m,
-            rest_space_depth_m: (params.short_slide_fraction * scene.diagonal_m).max(contact_m),
+            entries: vec![Vec::new(); clear.len()],
+            through_depth_m,
+            contact_m,
+            straight: motion.kind == JointKind::Prismatic,
+            rest_space_depth_m: (params.short_slide_fraction * scene.diagonal_m)
+                .max(through_depth_m),
             clear,
             crossed_count: 0,
             near,
@@ -160,34 +233,55 @@ impl Crossings {
     }
 
     /// Moves the points to `moved` (all moving points, in their original order) and records the
-    /// crossings on the way from their previous positions; a point that crossed a surface counts
-    /// once it is deeper than the contact distance beyond it, or, where it crossed inside the
-    /// space the group filled at rest (a button pressed into its face, a wheel in its fork),
+    /// crossings on the way from their previous positions. A point that went through a surface,
+    /// at least the contact distance inside its outline, counts once it is deeper than
+    /// `through_depth_m` beyond the crossed triangle's plane, or, where it went through inside
+    /// the space the group filled at rest (a button pressed into its face, a wheel in its fork),
     /// deeper than a short slide's travel (a door turned into its cabinet through the face it
-    /// rested on).
+    /// rested on). Depth is measured across the crossed plane: a point sliding along a surface
+    /// it touches (a drawer's side along a leg flush with it) and then past that surface's edge
+    /// has gone through nothing. A slide's depth is not bounded by the distance to the nearest
+    /// surface (a drawer pushed sideways into the edge of a thin rail travels inside the rail,
+    /// never far from its faces); a turning point's is. A point that comes back through a plane
+    /// it entered is out again.
     pub(crate) fn advance(&mut self, scene: &Scene, moved: &[DVec3]) {
         for (k, &i) in self.clear.iter().enumerate() {
             let to = moved[i];
             if !self.crossed[k] {
-                if self.touching[k].is_none() {
-                    for (part, _) in &self.near {
-                        let Some(hit) = scene.surfaces.crossing(*part, self.previous[k], to) else {
-                            continue;
-                        };
-                        let in_rest_space =
-                            self.occupancy.nearest_distance(hit) <= self.occupancy_radius_m;
-                        self.touching[k] = Some((*part, in_rest_space));
-                        break;
+                let from = self.previous[k];
+                let entries = &mut self.entries[k];
+                for &(part, _) in &self.near {
+                    let Some(mut entry) = scene.surfaces.crossing(part, from, to) else {
+                        continue;
+                    };
+                    if !inside_outline(scene, &entry, from, to, self.contact_m) {
+                        continue;
                     }
+                    if let Some(back) = entries.iter().position(|e| {
+                        e.part == part
+                            && e.depth_beyond_m(from) > 0.0
+                            && e.depth_beyond_m(to) <= 0.0
+                    }) {
+                        entries.remove(back);
+                        continue;
+                    }
+                    entry.in_rest_space =
+                        self.occupancy.nearest_distance(entry.point) <= self.occupancy_radius_m;
+                    if entries.len() == MAX_ENTRIES {
+                        entries.remove(0);
+                    }
+                    entries.push(entry);
                 }
-                if let Some((part, in_rest_space)) = self.touching[k]
-                    && scene.surfaces.distance_m(part, to)
-                        > if in_rest_space {
-                            self.rest_space_depth_m
-                        } else {
-                            self.through_depth_m
-                        }
-                {
+                let through = entries.iter().find(|e| {
+                    let depth_m = if e.in_rest_space {
+                        self.rest_space_depth_m
+                    } else {
+                        self.through_depth_m
+                    };
+                    e.depth_beyond_m(to) > depth_m
+                        && (self.straight || scene.surfaces.distance_m(e.part, to) > depth_m)
+                });
+                if let Some(part) = through.map(|e| e.part) {
                     self.crossed[k] = true;
                     self.crossed_count += 1;
                     if let Some((_, hits)) = self.near.iter_mut().find(|(p, _)| *p == part) {
@@ -204,7 +298,7 @@ impl Crossings {
     pub(crate) fn restart(&mut self, rest: &[DVec3]) {
         for (k, &i) in self.clear.iter().enumerate() {
             self.previous[k] = rest[i];
-            self.touching[k] = None;
+            self.entries[k].clear();
         }
     }
 
@@ -248,7 +342,12 @@ mod tests {
         let hit = s
             .crossing(0, DVec3::new(0.3, 0.2, 0.5), DVec3::new(0.3, 0.2, -0.5))
             .expect("crosses");
-        assert!((hit - DVec3::new(0.3, 0.2, 0.0)).length() < 1e-5, "{hit}");
+        assert!(
+            (hit.point - DVec3::new(0.3, 0.2, 0.0)).length() < 1e-5,
+            "{hit:?}"
+        );
+        // The normal is turned the way the point went: it is 0.4 beyond the plane at z = -0.4.
+        assert!((hit.depth_beyond_m(DVec3::new(0.0, 0.0, -0.4)) - 0.4).abs() < 1e-5);
         // Stopping short, passing beside, or moving along the panel: no crossing.
         assert!(
             s.crossing(0, DVec3::new(0.3, 0.2, 0.5), DVec3::new(0.3, 0.2, 0.1))

@@ -16,6 +16,7 @@
 
 mod articulation;
 mod candidates;
+mod contact_reference;
 mod correct;
 mod crossing;
 mod error;

@@ -3,12 +3,13 @@
 
 use std::collections::BTreeMap;
 
-use uniphys_geometry::{Aabb, DVec3, KdTree, fit_plane};
+use uniphys_geometry::{Aabb, DVec3, KdTree};
 use uniphys_types::{Joint, JointKind};
 
+use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
 use crate::motion::{JointMotion, sweep_coordinates};
-use crate::patch::{PatchParams, grow_patch, mean_spacing_m};
+use crate::patch::{PatchParams, grow_patch};
 use crate::scene::Scene;
 use crate::{VerifyError, VerifyResult};
 
@@ -19,7 +20,8 @@ pub struct SweepParams {
     pub steps: usize,
     /// Contact threshold search.
     pub patch: PatchParams,
-    /// Failure when the 95th percentile of the contact thickness ratio exceeds this (reference: 3).
+    /// Turning joints fail when the 95th percentile of the contact thickness ratio exceeds this
+    /// (reference: 3, for every joint).
     pub thickness_ratio_max: f64,
     /// A step's contact overlap below this is bad (reference: 0.4).
     pub overlap_min: f64,
@@ -36,7 +38,9 @@ pub struct SweepParams {
     pub crossing_fraction_max: f64,
     /// Moving surface points this close to another part at rest (a fraction of the moving
     /// group's diagonal, at most `rest_contact_object_fraction` of the object's) are in contact
-    /// at rest: they may slide along or out of it.
+    /// at rest: they may slide along or out of it. A point crossing another part's surface
+    /// counts once it goes this fraction of the group's diagonal beyond it (no object bound: a
+    /// limit a degree long sinks a part's far end by a share of the part's own length).
     pub rest_contact_part_fraction: f64,
     /// Upper bound of that contact distance, a fraction of the object diagonal.
     pub rest_contact_object_fraction: f64,
@@ -108,8 +112,8 @@ pub struct SweepMetrics {
     /// Moving surface samples clear of every other part at rest (the ones crossings count).
     pub clear_points: usize,
     /// Of them, the samples that passed through another part's surface and went beyond it deeper
-    /// than the contact distance, or, where they crossed it inside the space the moving parts
-    /// filled at rest, deeper than a short slide's travel.
+    /// than `rest_contact_part_fraction` of the group's diagonal, or, where they crossed it
+    /// inside the space the moving parts filled at rest, deeper than a short slide's travel.
     pub crossed_points: usize,
     /// `crossed_points / clear_points` at the end of the sweep (0 without clear points).
     pub crossed_fraction: f64,
@@ -151,11 +155,13 @@ pub struct SweepMetrics {
 ///
 /// Crossings (the verdict on interpenetration): the moving surface samples clear of every other
 /// part at rest are followed outward from rest to each limit; one counts once it passes through
-/// another part's own triangles and goes deeper than the contact distance beyond them (deeper
-/// than a short slide's travel where it crossed inside the space the moving samples filled at
-/// rest: a button pressed into its face). Open shells and zero-thickness panels are judged
-/// as they are, what overlapped at rest is not new, and a round part turning in place crosses
-/// nothing new. Collider penetration (a measure for the grounder, not a verdict): for each pair
+/// another part's own triangles, inside their outline, and goes deeper beyond them than 3 % of
+/// the moving group's diagonal (deeper than a short slide's travel where it crossed inside the
+/// space the moving samples filled at rest: a button pressed into its face). Open shells and
+/// zero-thickness panels are judged as they are, what overlapped at rest is not new, a face
+/// sliding flush along another goes through nothing, and a round part turning in place
+/// crosses nothing new. A part held along its hinge line keeps its overlap by its contact at
+/// that line. Collider penetration (a measure for the grounder, not a verdict): for each pair
 /// of a moving and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth
 /// at rest.
 ///
@@ -214,16 +220,25 @@ pub fn sweep(
     let patch = &params.patch;
     let start = patch.start_fraction * diag;
     let step = patch.step_fraction * diag;
+    let moving_tree = KdTree::new(moving_points.clone());
     let initial = grow_patch(
         parent_points,
-        &KdTree::new(moving_points.clone()),
+        &moving_tree,
         start,
         step,
         patch.initial_increments(),
         patch.min_points,
     );
     let reference = match &initial {
-        Some((points, threshold)) => Some(ContactReference::new(points, *threshold)?),
+        Some((points, threshold)) => Some(ContactReference::new(
+            points,
+            *threshold,
+            &motion,
+            &moving_tree,
+            &moving_points,
+            parent_points,
+            (0..=patch.initial_increments()).map(|k| start + step * k as f64),
+        )?),
         None => None,
     };
 
@@ -341,7 +356,7 @@ pub fn sweep(
                 Some((points, threshold)) => {
                     metrics.contact_steps += 1;
                     thickness.push(reference.thickness_ratio(&points, threshold)?);
-                    overlap.push(reference.overlap_ratio(&points));
+                    overlap.push(reference.overlap_ratio(&points, &moved_tree));
                 }
                 None => {
                     metrics.lost_contact_steps += 1;
@@ -396,52 +411,6 @@ fn hinge_to_parent_m(
 /// Points sampled along a hinge line.
 const HINGE_SAMPLES: usize = 20;
 
-/// The contact at rest that later steps are compared with.
-struct ContactReference {
-    threshold_m: f64,
-    thickness_m: f64,
-    points: Vec<DVec3>,
-    tree: KdTree,
-    overlap_radius_m: f64,
-}
-
-impl ContactReference {
-    fn new(points: &[DVec3], threshold_m: f64) -> VerifyResult<Self> {
-        Ok(Self {
-            threshold_m,
-            thickness_m: thickness_m(points)?,
-            points: points.to_vec(),
-            tree: KdTree::new(points.to_vec()),
-            overlap_radius_m: 2.0 * mean_spacing_m(points),
-        })
-    }
-
-    /// Thickness of a step's contact over the initial thickness, the latter at least the
-    /// threshold that found the step's points (a band of points within a threshold of a surface
-    /// is that thick; without the floor a thin initial contact makes any later one look thick).
-    fn thickness_ratio(&self, points: &[DVec3], threshold_m: f64) -> VerifyResult<f64> {
-        Ok(thickness_m(points)? / self.thickness_m.max(threshold_m))
-    }
-
-    /// How much of one contact the other covers: the larger of the fraction of the step's
-    /// points near an initial point and the fraction of initial points near a step's point
-    /// (within the overlap radius). A lid opening keeps part of its initial contact (the
-    /// hinge line), a lid closing adds to it; a contact that slides elsewhere does neither.
-    fn overlap_ratio(&self, points: &[DVec3]) -> f64 {
-        if self.points.is_empty() || points.is_empty() {
-            return 0.0;
-        }
-        let covered = |of: &[DVec3], by: &KdTree| {
-            of.iter()
-                .filter(|p| by.nearest_distance(**p) <= self.overlap_radius_m)
-                .count() as f64
-                / of.len() as f64
-        };
-        let now = KdTree::new(points.to_vec());
-        covered(points, &self.tree).max(covered(&self.points, &now))
-    }
-}
-
 /// The smallest distance from `points` (every fourth) to the surface of `parent`, metres.
 fn gap_to_parent_m(scene: &Scene, parent: usize, points: &[DVec3]) -> f64 {
     points
@@ -449,18 +418,6 @@ fn gap_to_parent_m(scene: &Scene, parent: usize, points: &[DVec3]) -> f64 {
         .step_by(4)
         .map(|p| scene.surfaces.distance_m(parent, *p))
         .fold(f64::INFINITY, f64::min)
-}
-
-/// Spread of points across their least-squares plane, metres.
-fn thickness_m(points: &[DVec3]) -> VerifyResult<f64> {
-    let plane = fit_plane(points)?;
-    let (lo, hi) = points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-            let d = plane.distance(*p);
-            (lo.min(d), hi.max(d))
-        });
-    Ok(if hi >= lo { hi - lo } else { 0.0 })
 }
 
 /// Percentile with linear interpolation between closest ranks (numpy's default).
@@ -478,7 +435,11 @@ impl SweepMetrics {
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
     /// - short slides: the part moves away from its parent (a button pulled out);
-    /// - any joint: the 95th percentile thickness ratio above `thickness_ratio_max`;
+    /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
+    ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
+    ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
+    ///   so anything it passes through is a crossing measured across the crossed plane, while its
+    ///   contact, spread over rails and frame in several planes, thickens and thins as it slides);
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
     ///   at rest passes through another part's surface (where it crosses inside the space the
     ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
@@ -506,7 +467,7 @@ impl SweepMetrics {
                 self.overlap_ratio_p10, self.bad_overlap_fraction
             ));
         }
-        if self.thickness_ratio_p95 > params.thickness_ratio_max {
+        if rotational && self.thickness_ratio_p95 > params.thickness_ratio_max {
             reasons.push(format!(
                 "severe contact thickness change: p95 ratio = {:.2}",
                 self.thickness_ratio_p95
@@ -544,8 +505,10 @@ impl SweepMetrics {
         }
         let steps = self.steps.max(1) as f64;
         let rotational = matches!(self.kind, JointKind::Revolute | JointKind::Continuous);
-        let mut s = (self.crossed_fraction / params.crossing_fraction_max)
-            .max(self.thickness_ratio_p95 / params.thickness_ratio_max);
+        let mut s = self.crossed_fraction / params.crossing_fraction_max;
+        if rotational {
+            s = s.max(self.thickness_ratio_p95 / params.thickness_ratio_max);
+        }
         if self.hinge_lost_contact() {
             s = s.max(1.0 + 10.0 * self.lost_contact_steps as f64 / steps);
         }

@@ -164,3 +164,26 @@ fn a_drawer_pushed_in_or_sliding_sideways_is_caught_and_put_back() {
         );
     }
 }
+
+// These true joints failed before the sweep judged a crossing by its depth across the crossed
+// plane and inside its outline, a crossing's depth by the moving part's own size, a hinge's
+// overlap by its contact at the hinge line too, and contact thickness for turning joints only.
+#[test]
+fn table_drawers_sliding_along_flush_legs_and_rails_pass_unchanged() {
+    // 26670: the drawer's sides slide flush along the legs' inner faces. 22241: its contact
+    // spreads over both side rails and the front frame as it slides.
+    assert_true_joints_pass_unchanged("gensim2-26670");
+    assert_true_joints_pass_unchanged("gensim2-22241");
+}
+
+#[test]
+fn bucket_handles_swinging_over_to_the_other_side_pass_unchanged() {
+    // Laid against one side of the bucket at rest, against the other at the end.
+    assert_true_joints_pass_unchanged("gensim2-100462");
+    assert_true_joints_pass_unchanged("gensim2-102365");
+}
+
+#[test]
+fn a_laptop_screen_closing_onto_its_keyboard_passes_unchanged() {
+    assert_true_joints_pass_unchanged("gensim2-10040");
+}
