@@ -13,8 +13,9 @@
 //! - another broad sheet (a laptop screen, a lid propped open) closes until it meets its parent
 //!   and opens at most 135 degrees from there (past upright, where such hinges stop);
 //! - anything else (a wire such as a bucket handle, a knife's blade, a lever) turns both ways
-//!   until it collides; where nothing the sweep sees stops it for nearly a whole turn, the range
-//!   of the search that chose the hinge stands.
+//!   until it collides;
+//! - where the free turns either way overlap, so that nothing the sweep sees stops it, the range
+//!   of the search that chose the hinge stands (checked before the two rules above).
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -97,9 +98,12 @@ pub(crate) fn hinge_range(
             opens.min(FRAC_PI_2),
             "closed on its parent's face: opens outward, a quarter turn at most (a hinge's stop)",
         )
-    } else if forward + backward >= TAU - 2.0 * step {
-        // Turning nearly a whole turn, it is not stopped by anything the sweep can see (a
-        // blade folded inside its handle has no surface clear of it to collide with).
+    } else if forward + backward > TAU + 2.0 * step {
+        // The free turns either way overlap: a pose reached freely one way is where the other
+        // way stopped, so the sweep cannot see what stops it (a blade folded inside its handle
+        // has no surface clear of it to collide with). Stops that meet, one step short of each
+        // other's, are one obstacle seen from both sides (a laptop's base, closed onto from
+        // above and swung under from behind).
         return (
             hinge.clone(),
             "nothing seen stops it either way: the search's range",
