@@ -168,7 +168,7 @@ fn covered_either_way(at_rest: &[DVec3], tree: &KdTree, now: &[DVec3], radius_m:
 }
 
 /// Spread of points across their least-squares plane, metres.
-pub(crate) fn thickness_m(points: &[DVec3]) -> VerifyResult<f64> {
+fn thickness_m(points: &[DVec3]) -> VerifyResult<f64> {
     let plane = fit_plane(points)?;
     let (lo, hi) = points
         .iter()
