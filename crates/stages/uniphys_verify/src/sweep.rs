@@ -494,10 +494,11 @@ impl SweepMetrics {
     }
 
     /// How badly the joint fails, comparable across variants of one joint: the largest of each
-    /// rule's measure over its limit (crossed fraction, a turning joint's thickness ratio; when they fail, lost
-    /// contact of a turning joint counts 1 plus ten times its share of steps, a severe overlap
-    /// change 1 plus five times its excess of bad steps, a short slide leaving its parent 1 plus
-    /// its gap over the allowed one; 10 without contact at rest). At most 1 when the sweep passes.
+    /// rule's measure over its limit (crossed fraction, a turning joint's thickness ratio; when
+    /// they fail, lost contact of a turning joint counts 1 plus ten times its share of steps, a
+    /// severe overlap change 1 plus five times its excess of bad steps, a short slide leaving its
+    /// parent 1 plus its gap over the allowed one; 10 without contact at rest). At most 1 when
+    /// the sweep passes.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
