@@ -6,7 +6,7 @@ use uniphys_types::JointKind;
 
 use crate::VerifyResult;
 use crate::motion::JointMotion;
-use crate::patch::mean_spacing_m;
+use crate::patch::{grow_patch, mean_spacing_m};
 
 /// Parent points within this fraction of the moving group's diagonal of a turning joint's axis
 /// line are the contact at the hinge (its barrel, a handle's two lugs, a screen's hinge line).
@@ -45,7 +45,8 @@ struct HingeContact {
 impl ContactReference {
     /// The contact `points` (the parent's, found within `threshold_m` of the moving group at
     /// rest) of a joint moving by `motion`; `moving` holds the moving group's points at rest
-    /// and `parent_points` the parent's, `thresholds_m` the contact thresholds to try in turn.
+    /// and `parent_points` the parent's, `search_m` the contact threshold search
+    /// (first threshold, increment, increments: as [`grow_patch`]).
     pub(crate) fn new(
         points: &[DVec3],
         threshold_m: f64,
@@ -53,7 +54,7 @@ impl ContactReference {
         moving: &KdTree,
         moving_points: &[DVec3],
         parent_points: &[DVec3],
-        thresholds_m: impl Iterator<Item = f64>,
+        search_m: (f64, f64, usize),
     ) -> VerifyResult<Self> {
         Ok(Self {
             threshold_m,
@@ -61,7 +62,7 @@ impl ContactReference {
             points: points.to_vec(),
             tree: KdTree::new(points.to_vec()),
             overlap_radius_m: 2.0 * mean_spacing_m(points),
-            hinge: HingeContact::find(motion, moving, moving_points, parent_points, thresholds_m),
+            hinge: HingeContact::find(motion, moving, moving_points, parent_points, search_m),
         })
     }
 
@@ -105,15 +106,15 @@ impl ContactReference {
 impl HingeContact {
     /// The contact at the hinge, when `motion` turns the group about a line along which its
     /// parent holds it: the parent's points near the axis line that touch the group (within
-    /// the first of `thresholds_m` that finds three) span most of the group's extent along the
-    /// axis, and that extent is not the group's thin side (a door spun about its own normal is
-    /// held at one spot, not along a line).
+    /// the first threshold of `search_m` that finds three) span most of the group's extent
+    /// along the axis, and that extent is not the group's thin side (a door spun about its own
+    /// normal is held at one spot, not along a line).
     fn find(
         motion: &JointMotion,
         moving: &KdTree,
         moving_points: &[DVec3],
         parent_points: &[DVec3],
-        mut thresholds_m: impl Iterator<Item = f64>,
+        search_m: (f64, f64, usize),
     ) -> Option<Self> {
         if !matches!(motion.kind, JointKind::Revolute | JointKind::Continuous)
             || moving_points.is_empty()
@@ -134,14 +135,8 @@ impl HingeContact {
             .copied()
             .filter(|p| (*p - pivot).reject_from_normalized(axis).length() <= radius_m)
             .collect();
-        let (threshold_m, at_rest) = thresholds_m.find_map(|t| {
-            let touching: Vec<DVec3> = tube
-                .iter()
-                .copied()
-                .filter(|p| moving.nearest_distance(*p) <= t)
-                .collect();
-            (touching.len() >= 3).then_some((t, touching))
-        })?;
+        let (start_m, step_m, max_increments) = search_m;
+        let (at_rest, threshold_m) = grow_patch(&tube, moving, start_m, step_m, max_increments, 3)?;
         let (a, b) = projection_range(&at_rest, axis);
         (b - a >= HINGE_SPAN_FRACTION * along_m).then(|| Self {
             tube,
@@ -243,7 +238,7 @@ mod tests {
             &moving,
             &flap,
             &parent,
-            [0.02].into_iter(),
+            (0.02, 0.01, 0),
         )
         .expect("reference");
         let turned: Vec<DVec3> = flap

@@ -237,7 +237,7 @@ pub fn sweep(
             &moving_tree,
             &moving_points,
             parent_points,
-            (0..=patch.initial_increments()).map(|k| start + step * k as f64),
+            (start, step, patch.initial_increments()),
         )?),
         None => None,
     };
