@@ -124,6 +124,18 @@ pub fn evaluate_paths(
     gts: &[PathBuf],
     gt_options: &IngestOptions,
 ) -> EvalResult<EvalReport> {
+    Ok(evaluate_pairs(&load_pairs(preds, gts, gt_options)?))
+}
+
+/// Loads predictions and ground truths paired in order (see [`evaluate_paths`]).
+///
+/// # Errors
+/// [`EvalError::Mismatch`] when either list is empty or their lengths differ; any load error.
+pub fn load_pairs(
+    preds: &[PathBuf],
+    gts: &[PathBuf],
+    gt_options: &IngestOptions,
+) -> EvalResult<Vec<(AnnotatedAsset, AnnotatedAsset)>> {
     if preds.is_empty() || gts.is_empty() {
         return Err(EvalError::Mismatch(
             "give at least one prediction and one ground truth (--pred and --gt)".to_owned(),
@@ -136,10 +148,9 @@ pub fn evaluate_paths(
             gts.len()
         )));
     }
-    let pairs = preds
+    preds
         .iter()
         .zip(gts)
         .map(|(p, g)| Ok((load_prediction(p)?, load_ground_truth(g, gt_options)?)))
-        .collect::<EvalResult<Vec<_>>>()?;
-    Ok(evaluate_pairs(&pairs))
+        .collect()
 }

@@ -10,7 +10,8 @@
 //! our `record.json` (`load_record.rs`), a URDF ingested like a run (`load_mesh_asset.rs`), or a
 //! UniPhys-40K entity (`load_dataset.rs`); `pairing.rs` matches joints and parts by name and
 //! maps pivots into the `[0, 2]` model frame; [`evaluate_pairs`] and [`evaluate_paths`] build
-//! the [`EvalReport`] (`eval_report.rs`), printed by [`report_tables`].
+//! the [`EvalReport`] (`eval_report.rs`), printed by [`report_tables`]; [`compare_joints`]
+//! lists each true joint next to its prediction (`per_joint.rs`).
 
 mod annotated;
 mod common;
@@ -25,6 +26,7 @@ mod load_record;
 mod member_ids;
 mod object;
 mod pairing;
+mod per_joint;
 mod physics;
 mod report;
 mod report_tables;
@@ -34,7 +36,8 @@ pub use annotated::{AnnotatedAsset, AnnotatedJoint, AnnotatedPart};
 pub use common::{RunningMean, abs_error, alde, mnre};
 pub use error::{EvalError, EvalResult};
 pub use eval_report::{
-    EVAL_SCHEMA_VERSION, EvalInput, EvalReport, InputSummary, TASKS, evaluate_pairs, evaluate_paths,
+    EVAL_SCHEMA_VERSION, EvalInput, EvalReport, InputSummary, TASKS, evaluate_pairs,
+    evaluate_paths, load_pairs,
 };
 pub use kinematic_measures::{
     axis_angular_error_degrees, canonical_interval, interval_iou, point_to_line_distance,
@@ -47,6 +50,7 @@ pub use load_record::{RECORD_FILE, annotated_from_record, read_record, record_pa
 pub use member_ids::{IdSet, normalise_id, normalise_id_set};
 pub use object::{ObjectSample, ObjectValues, evaluate_object, valid_dimensions};
 pub use pairing::{PairSamples, pair_samples};
+pub use per_joint::{JointComparison, compare_joints, joint_kind_word, per_joint_table};
 pub use physics::{PhysicalProperties, PhysicsSample, evaluate_physics, material_category};
 pub use report::TaskReport;
 pub use report_tables::{format_metric, report_tables};

@@ -244,6 +244,10 @@ pub struct EvalArgs {
     /// Print the report as JSON instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Also list every ground-truth movable joint next to the predicted one (a table, or a
+    /// `joints` array with `--json`).
+    #[arg(long)]
+    pub per_joint: bool,
 }
 
 impl UpArg {

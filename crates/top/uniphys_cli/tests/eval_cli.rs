@@ -113,4 +113,38 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
         text.contains("### kinematic_parameters") && text.contains("| joint_type_accuracy |"),
         "{text}"
     );
+
+    assert!(eval.get("joints").is_none(), "joints only with --per-joint");
+
+    let o = uniphys(&[
+        "eval",
+        "--pred",
+        &out_s,
+        "--gt",
+        &gt,
+        "--rotate-seed",
+        "5",
+        "--json",
+        "--per-joint",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let eval: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json report");
+    let joints = eval["joints"].as_array().expect("a joints array");
+    assert_eq!(joints.len(), 1, "{joints:?}");
+    assert_eq!(joints[0]["asset"], "cabinet");
+    assert_eq!(joints[0]["part"], "door");
+    assert_eq!(joints[0]["gt_kind"], "revolute");
+    assert!(joints[0]["predicted_kind"].is_string(), "{joints:?}");
+    let o = uniphys(&[
+        "eval",
+        "--pred",
+        &out_s,
+        "--gt",
+        &gt,
+        "--rotate-seed",
+        "5",
+        "--per-joint",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("| cabinet | door | revolute |"), "{text}");
 }
