@@ -8,8 +8,9 @@
 //! - joints ([`articulate`]): declared ones completed; when no part name says that it slides or
 //!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
 //!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
-//!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge, parts in
-//!   an opening slide; a slide's range is its free travel, a hinge's comes from sweeping it both
+//!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge away from
+//!   their handle (`handle`: what stands out of the outer face against the face around it),
+//!   parts in an opening slide; a slide's range is its free travel, a hinge's comes from sweeping it both
 //!   ways with the stops real hinges have (`hinge_range`); otherwise part names say which parts
 //!   slide or turn and the joint of each is chosen by sweeping hypotheses (`hypotheses`:
 //!   candidate axes x pivots x direction from the contact with its parent) with simple priors;
@@ -19,6 +20,7 @@
 mod articulate;
 mod dynamics;
 mod error;
+mod handle;
 mod hinge_range;
 mod hypotheses;
 mod intrinsic;

@@ -35,6 +35,7 @@ use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
 use crate::articulate::builtin_joint;
+use crate::handle::panel_handle;
 use crate::hinge_range::hinge_range;
 use crate::hypotheses::{extent_along, mean};
 use crate::small_part::small_part_motion;
@@ -70,8 +71,6 @@ const SLAB_RATIO: f64 = 0.5;
 /// ... which is a direction in which it is no deeper than this many times its thinnest extent
 /// (box axes and slide axes agree to a few percent).
 const SLAB_DEPTH_SLACK: f64 = 1.1;
-/// A handle stands out of the part's outer face by at least this share of the face's thickness.
-const HANDLE_STAND_OUT_FRACTION: f64 = 0.25;
 /// Contacts within this share of the contact's extent from either end of a hinge axis hold the
 /// hinge.
 const HINGE_END_FRACTION: f64 = 0.15;
@@ -315,9 +314,9 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     }
 }
 
-/// The centre of the part's handle, if it has one: the parts it carries, or the samples standing
-/// out of its outer face (the face of its thinnest box axis turned away from the parent, `away`)
-/// when they are between 1 % and 30 % of its surface.
+/// The centre of the part's handle, if it has one: the parts it carries, or what stands out of
+/// its outer face (turned away from the parent, `away`) against the face around it
+/// ([`panel_handle`]).
 fn handle_centre(
     scene: &Scene,
     mover: &Mover<'_>,
@@ -334,46 +333,26 @@ fn handle_centre(
     if !carried.is_empty() {
         return Some(mean(&scene.points_of(&carried)));
     }
-    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
-    let normal = if part.axes[thin].dot(away) < 0.0 {
-        -part.axes[thin]
-    } else {
-        part.axes[thin]
-    };
-    let mut levels: Vec<f64> = child_points.iter().map(|p| p.dot(normal)).collect();
-    levels.sort_by(f64::total_cmp);
-    let at = |q: f64| levels[((levels.len() - 1) as f64 * q).round() as usize];
-    let (back, front) = (at(0.25), at(0.75));
-    let out = front + HANDLE_STAND_OUT_FRACTION * (front - back).max(0.01 * part.diagonal);
-    let standing: Vec<DVec3> = child_points
-        .iter()
-        .copied()
-        .filter(|p| p.dot(normal) > out)
-        .collect();
-    let share = standing.len() as f64 / child_points.len().max(1) as f64;
-    (0.01..=0.3).contains(&share).then(|| mean(&standing))
+    panel_handle(child_points, part, away)
 }
 
 /// Mean distance from the hinge line (through `pivot` along `axis`) to where the part touches
-/// its parent. A hinge holds a part at both ends of its axis: when the part touches at both ends
-/// (a bucket handle's two attachments), only those contacts count, not the rest of a part that
-/// leans on its parent at rest.
+/// its parent near either end of the contact (its first and last [`HINGE_END_FRACTION`] along
+/// the axis): a hinge holds a part at both ends of its axis (a bucket handle's two
+/// attachments), so the rest of a part that leans on its parent at rest does not count.
 fn contact_off_line(touching: &[DVec3], pivot: DVec3, axis: DVec3) -> f64 {
-    let line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
+    let line = |p: &DVec3| (*p - pivot).reject_from_normalized(axis).length();
     let (lo, hi) = projection_range(touching, axis);
     let end = HINGE_END_FRACTION * (hi - lo);
-    let near_ends: Vec<DVec3> = touching
+    let near_ends: Vec<f64> = touching
         .iter()
-        .copied()
         .filter(|p| {
             let t = p.dot(axis);
             t <= lo + end || t >= hi - end
         })
+        .map(line)
         .collect();
-    let both_ends = near_ends.iter().any(|p| p.dot(axis) <= lo + end)
-        && near_ends.iter().any(|p| p.dot(axis) >= hi - end);
-    let counted = if both_ends { &near_ends[..] } else { touching };
-    counted.iter().map(|p| line(*p)).sum::<f64>() / counted.len().max(1) as f64
+    near_ends.iter().sum::<f64>() / near_ends.len().max(1) as f64
 }
 
 /// The points within `touch_m` of the own triangles of part `other`.

@@ -22,6 +22,8 @@ const TURNS_RAD: [f64; 3] = [
 /// A turned sample is back on the part when it lies within this fraction of the part's
 /// diagonal of the part's own surface.
 const ON_SURFACE_FRACTION: f64 = 0.02;
+/// Samples at least this share of the farthest sample's distance from the axis are judged.
+const OUTER_RADIUS_FRACTION: f64 = 0.5;
 /// Share of the turned samples that must be back on the part at every turn.
 const KEPT_FRACTION_MIN: f64 = 0.85;
 /// A refined axis within this angle of its candidate (cosine of 15 degrees) is the candidate.
@@ -61,21 +63,32 @@ fn centre_about(points: &[DVec3], axis: DVec3) -> DVec3 {
         .sum()
 }
 
-/// The smallest share of `points` that land back on the part's surface over the test turns.
+/// The smallest share of the outer `points` (at least [`OUTER_RADIUS_FRACTION`] of the farthest
+/// one's distance from the axis) that land back on the part's surface over the test turns.
+/// Only the outer samples are judged: a turn barely moves those near the axis, and on a flat
+/// part (a door, a lid) the faces' samples stay on the faces whatever its outline; the outline
+/// is what a turn tests.
 fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tolerance: f64) -> f64 {
     let centre = centre_about(points, axis);
+    let radius = |p: &DVec3| (*p - centre).reject_from_normalized(axis).length();
+    let farthest = points.iter().map(radius).fold(0.0, f64::max);
+    let outer: Vec<DVec3> = points
+        .iter()
+        .filter(|p| radius(p) >= OUTER_RADIUS_FRACTION * farthest)
+        .copied()
+        .collect();
     TURNS_RAD
         .iter()
         .map(|&angle| {
             let turn = DQuat::from_axis_angle(axis, angle);
-            let on = points
+            let on = outer
                 .iter()
                 .filter(|p| {
                     let turned = centre + turn * (**p - centre);
                     scene.distance_to_surface_m(part, turned) <= tolerance
                 })
                 .count();
-            on as f64 / points.len() as f64
+            on as f64 / outer.len().max(1) as f64
         })
         .fold(1.0, f64::min)
 }

@@ -102,6 +102,73 @@ fn a_door_with_a_handle_hinges_on_the_edge_away_from_the_handle() {
     assert!(joint.limits.expect("limits").upper >= 1.4, "{joint:#?}");
 }
 
+#[test]
+fn a_door_with_a_bar_along_its_top_hinges_at_its_bottom() {
+    // An oven's door on an open cabinet, taller than wide, with a bar across its top: the bar
+    // is the handle, so the door drops open about its bottom edge, not about its long edge.
+    let cabinet = open_front_cabinet();
+    let b = cabinet.bounds();
+    let (front, width, height) = (b.min.y, b.max.x - b.min.x, b.max.z - b.min.z);
+    let panel = cuboid(
+        DVec3::new(b.min.x, front - 0.02, b.min.z),
+        DVec3::new(b.max.x, front, b.max.z),
+    );
+    let bar = cuboid(
+        DVec3::new(
+            b.min.x + 0.15 * width,
+            front - 0.08,
+            b.max.z - 0.06 * height,
+        ),
+        DVec3::new(
+            b.max.x - 0.15 * width,
+            front - 0.02,
+            b.max.z - 0.02 * height,
+        ),
+    );
+    let door = TriMesh::merge([&panel, &bar]);
+    let joint = joint_of_part_1(&[cabinet, door]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    assert!(
+        axis(&joint).x.abs() > 0.99,
+        "a horizontal hinge: {joint:#?}"
+    );
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    assert!(
+        pivot.z < b.min.z + 0.05,
+        "along the bottom edge: {joint:#?}"
+    );
+}
+
+#[test]
+fn a_door_with_a_stepped_face_hinges_and_does_not_spin() {
+    // A door whose outer face rises in three steps toward its middle: a turn about its normal
+    // keeps most of its samples on its faces, but its outline does not map onto itself, so it
+    // is no spinning disc: it hinges about an edge.
+    let cabinet = open_front_cabinet();
+    let b = cabinet.bounds();
+    let front = b.min.y;
+    let panel = cuboid(
+        DVec3::new(b.min.x, front - 0.02, b.min.z),
+        DVec3::new(b.max.x, front, b.max.z),
+    );
+    let steps: Vec<TriMesh> = (1..=3)
+        .map(|k| {
+            let (inset, rise) = (0.05 * f64::from(k), 0.008 * f64::from(k));
+            cuboid(
+                DVec3::new(b.min.x + inset, front - 0.02 - rise, b.min.z + inset),
+                DVec3::new(b.max.x - inset, front - 0.02, b.max.z - inset),
+            )
+        })
+        .collect();
+    let door = TriMesh::merge(steps.iter().chain([&panel]));
+    let joint = joint_of_part_1(&[cabinet, door]);
+    assert_eq!(joint.kind, JointKind::Revolute, "{joint:#?}");
+    assert!(
+        axis(&joint).y.abs() < 0.1,
+        "about an edge in the door's plane, not its normal: {joint:#?}"
+    );
+}
+
 /// Where the middle of `part` goes when `joint` turns it a little the positive way.
 fn moved_middle(joint: &Joint, part: &TriMesh, angle: f64) -> DVec3 {
     let pivot = DVec3::from_array(joint.pivot_in_object_m);

@@ -135,3 +135,13 @@ fn a_cart_gets_four_spinning_wheels() {
 fn a_table_gets_its_three_drawers() {
     check("kitchen-26387", false);
 }
+
+#[test]
+fn a_dishwasher_door_with_a_bar_at_its_top_drops_open_about_its_bottom_edge() {
+    check("kitchen-11622", true);
+}
+
+#[test]
+fn a_cabinet_door_hinges_on_the_edge_away_from_its_handle() {
+    check("kitchen-46197", false);
+}

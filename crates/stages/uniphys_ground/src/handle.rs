@@ -1,0 +1,191 @@
+//! A panel's handle: what stands out of its outer face, judged against the face around it.
+//!
+//! The outer face of a real door is rarely a plane: it bulges, curves or carries a raised
+//! frame. A handle is what stands out of the face *locally*: the outer surface is mapped as a
+//! height field over the panel's plane, and a handle sample rises well above the median height
+//! of the cells around it. A bulge or a curve rises with its neighbours and is not a handle; a
+//! bar across the whole width still is, since it fills only a row of the neighbourhood.
+
+use uniphys_geometry::DVec3;
+
+use crate::hypotheses::mean;
+use crate::motion_search::PartBox;
+
+/// A part whose thinnest box extent is at least this share of its middle one is not a panel:
+/// it has no outer face to carry a handle (a cap, a knob).
+const PANEL_RATIO: f64 = 0.5;
+/// Cells of the height field along each of the panel's two long axes: about this many samples
+/// per cell on average ...
+const SAMPLES_PER_CELL: usize = 2;
+/// ... and between these many cells each way.
+const GRID_RANGE: (usize, usize) = (4, 16);
+/// A cell is compared with the cells within this share of the grid each way (at least one); the
+/// window keeps its size at the panel's edges (a bar along an edge is still a minority of it).
+const NEIGHBOURHOOD_FRACTION: f64 = 0.15;
+/// A handle stands out of the face around it by at least this share of the panel's own
+/// thickness ...
+const STAND_OUT_OF_THICKNESS: f64 = 0.25;
+/// ... and at least this share of the panel's diagonal (a groove or a moulding does not).
+const STAND_OUT_OF_DIAGONAL: f64 = 0.01;
+/// A handle is between these shares of the panel's surface samples.
+const SHARE_RANGE: (f64, f64) = (0.002, 0.3);
+
+/// The centre of the handle standing out of the outer face of the panel `part` (sampled at
+/// `points`), the face of its thinnest box axis turned along `away` (away from its parent).
+pub(crate) fn panel_handle(points: &[DVec3], part: &PartBox, away: DVec3) -> Option<DVec3> {
+    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    let [thinnest, middle, _] = part.sorted_extents();
+    if thinnest >= PANEL_RATIO * middle {
+        return None;
+    }
+    let normal = if part.axes[thin].dot(away) < 0.0 {
+        -part.axes[thin]
+    } else {
+        part.axes[thin]
+    };
+    let (a, b) = ((thin + 1) % 3, (thin + 2) % 3);
+    let grid = ((points.len() / SAMPLES_PER_CELL) as f64)
+        .sqrt()
+        .clamp(GRID_RANGE.0 as f64, GRID_RANGE.1 as f64) as usize;
+    let reach = ((NEIGHBOURHOOD_FRACTION * grid as f64).round() as usize).max(1);
+    let cell_of = |p: &DVec3| {
+        let index = |k: usize| {
+            let (lo, hi) = part.ranges[k];
+            let t = (p.dot(part.axes[k]) - lo) / (hi - lo).max(1e-12);
+            ((t * grid as f64) as usize).min(grid - 1)
+        };
+        index(a) * grid + index(b)
+    };
+    // Per cell: the outermost level of the surface along the normal.
+    let mut top = vec![f64::NEG_INFINITY; grid * grid];
+    let cells: Vec<usize> = points.iter().map(cell_of).collect();
+    for (p, &c) in points.iter().zip(&cells) {
+        top[c] = top[c].max(p.dot(normal));
+    }
+    if top.iter().filter(|t| t.is_finite()).count() < grid {
+        return None;
+    }
+    // The panel's own thickness: the median over blocks of 2 x 2 cells (enough samples to hold
+    // both faces) of the outermost minus the innermost level.
+    let blocks = grid.div_ceil(2);
+    let mut block_top = vec![f64::NEG_INFINITY; blocks * blocks];
+    let mut block_bottom = vec![f64::INFINITY; blocks * blocks];
+    for (p, &c) in points.iter().zip(&cells) {
+        let block = (c / grid / 2) * blocks + (c % grid) / 2;
+        let level = p.dot(normal);
+        block_top[block] = block_top[block].max(level);
+        block_bottom[block] = block_bottom[block].min(level);
+    }
+    let mut thicknesses: Vec<f64> = block_top
+        .iter()
+        .zip(&block_bottom)
+        .filter(|(t, _)| t.is_finite())
+        .map(|(t, b)| t - b)
+        .collect();
+    let thickness = median(&mut thicknesses);
+    let rise = (STAND_OUT_OF_THICKNESS * thickness).max(STAND_OUT_OF_DIAGONAL * part.diagonal);
+    // The face level around each cell: the median outermost level of its neighbourhood.
+    let around: Vec<Option<f64>> = (0..grid * grid)
+        .map(|c| {
+            let (i, j) = (c / grid, c % grid);
+            let window = |k: usize| {
+                let start = k
+                    .saturating_sub(reach)
+                    .min(grid.saturating_sub(2 * reach + 1));
+                start..=(start + 2 * reach).min(grid - 1)
+            };
+            let mut levels: Vec<f64> = window(i)
+                .flat_map(|ii| window(j).map(move |jj| ii * grid + jj))
+                .map(|n| top[n])
+                .filter(|t| t.is_finite())
+                .collect();
+            (levels.len() >= 3).then(|| median(&mut levels))
+        })
+        .collect();
+    let standing: Vec<DVec3> = points
+        .iter()
+        .zip(&cells)
+        .filter(|(p, c)| around[**c].is_some_and(|face| p.dot(normal) > face + rise))
+        .map(|(p, _)| *p)
+        .collect();
+    let share = standing.len() as f64 / points.len().max(1) as f64;
+    (SHARE_RANGE.0..=SHARE_RANGE.1)
+        .contains(&share)
+        .then(|| mean(&standing))
+}
+
+/// The median of `values` (reordered); 0 when empty.
+fn median(values: &mut [f64]) -> f64 {
+    quantile(values, 0.5)
+}
+
+/// The value at quantile `q` of `values` (reordered); 0 when empty.
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let at = ((values.len() - 1) as f64 * q).round() as usize;
+    *values.select_nth_unstable_by(at, f64::total_cmp).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Samples of a door 0.6 wide (x), 0.8 tall (z) and 0.02 thick (y, outer face toward -y)
+    /// whose outer face bulges out by `bulge_m` in its middle, with a bar `bar_m` proud of the
+    /// face across the top when `bar` is set.
+    fn door(bulge_m: f64, bar: bool) -> Vec<DVec3> {
+        let mut points = Vec::new();
+        let n = 60;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let (x, z) = (-0.3 + 0.6 * u, 0.8 * v);
+                let rise =
+                    bulge_m * (std::f64::consts::PI * u).sin() * (std::f64::consts::PI * v).sin();
+                points.push(DVec3::new(x, -0.02 - rise, z));
+                points.push(DVec3::new(x, 0.0, z));
+            }
+        }
+        if bar {
+            for i in 0..=40 {
+                for k in 0..=4 {
+                    let x = -0.2 + 0.4 * i as f64 / 40.0;
+                    points.push(DVec3::new(x, -0.07, 0.72 + 0.03 * k as f64 / 4.0));
+                }
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn a_bar_on_a_bulging_face_is_the_handle_and_the_bulge_is_not() {
+        let points = door(0.03, true);
+        let part = PartBox::of(&points);
+        let handle = panel_handle(&points, &part, -DVec3::Y).expect("the bar is a handle");
+        assert!(
+            handle.z > 0.7 && handle.x.abs() < 0.05,
+            "at the bar: {handle:?}"
+        );
+        let bare = door(0.03, false);
+        let part = PartBox::of(&bare);
+        assert!(
+            panel_handle(&bare, &part, -DVec3::Y).is_none(),
+            "a bulge alone is no handle"
+        );
+    }
+
+    #[test]
+    fn a_thick_part_has_no_handle() {
+        // A cube with a stub on one face is not a panel.
+        let mut points: Vec<DVec3> = (0..=20)
+            .flat_map(|i| (0..=20).flat_map(move |j| (0..=20).map(move |k| (i, j, k))))
+            .filter(|(i, j, k)| [i, j, k].iter().any(|c| **c == 0 || **c == 20))
+            .map(|(i, j, k)| DVec3::new(i as f64, j as f64, k as f64) * 0.01)
+            .collect();
+        points.extend((0..20).map(|k| DVec3::new(0.1, -0.03, 0.1 + 0.001 * k as f64)));
+        let part = PartBox::of(&points);
+        assert!(panel_handle(&points, &part, -DVec3::Y).is_none());
+    }
+}
