@@ -9,11 +9,8 @@
 use uniphys_geometry::DVec3;
 
 use crate::hypotheses::mean;
-use crate::motion_search::PartBox;
+use crate::motion_search::{PartBox, SLAB_RATIO};
 
-/// A part whose thinnest box extent is at least this share of its middle one is not a panel:
-/// it has no outer face to carry a handle (a cap, a knob).
-const PANEL_RATIO: f64 = 0.5;
 /// Cells of the height field along each of the panel's two long axes: about this many samples
 /// per cell on average ...
 const SAMPLES_PER_CELL: usize = 2;
@@ -34,8 +31,9 @@ const SHARE_RANGE: (f64, f64) = (0.002, 0.3);
 /// `points`), the face of its thinnest box axis turned along `away` (away from its parent).
 pub(crate) fn panel_handle(points: &[DVec3], part: &PartBox, away: DVec3) -> Option<DVec3> {
     let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    // Only a slab has an outer face (not a cap, a knob).
     let [thinnest, middle, _] = part.sorted_extents();
-    if thinnest >= PANEL_RATIO * middle {
+    if thinnest >= SLAB_RATIO * middle {
         return None;
     }
     let normal = if part.axes[thin].dot(away) < 0.0 {
@@ -56,26 +54,24 @@ pub(crate) fn panel_handle(points: &[DVec3], part: &PartBox, away: DVec3) -> Opt
         };
         index(a) * grid + index(b)
     };
-    // Per cell: the outermost level of the surface along the normal.
+    // Per cell, the outermost level of the surface along the normal; per block of 2 x 2 cells
+    // (enough samples to hold both faces), the outermost and innermost.
+    let blocks = grid.div_ceil(2);
     let mut top = vec![f64::NEG_INFINITY; grid * grid];
+    let mut block_top = vec![f64::NEG_INFINITY; blocks * blocks];
+    let mut block_bottom = vec![f64::INFINITY; blocks * blocks];
     let cells: Vec<usize> = points.iter().map(cell_of).collect();
     for (p, &c) in points.iter().zip(&cells) {
-        top[c] = top[c].max(p.dot(normal));
+        let level = p.dot(normal);
+        let block = (c / grid / 2) * blocks + (c % grid) / 2;
+        top[c] = top[c].max(level);
+        block_top[block] = block_top[block].max(level);
+        block_bottom[block] = block_bottom[block].min(level);
     }
     if top.iter().filter(|t| t.is_finite()).count() < grid {
         return None;
     }
-    // The panel's own thickness: the median over blocks of 2 x 2 cells (enough samples to hold
-    // both faces) of the outermost minus the innermost level.
-    let blocks = grid.div_ceil(2);
-    let mut block_top = vec![f64::NEG_INFINITY; blocks * blocks];
-    let mut block_bottom = vec![f64::INFINITY; blocks * blocks];
-    for (p, &c) in points.iter().zip(&cells) {
-        let block = (c / grid / 2) * blocks + (c % grid) / 2;
-        let level = p.dot(normal);
-        block_top[block] = block_top[block].max(level);
-        block_bottom[block] = block_bottom[block].min(level);
-    }
+    // The panel's own thickness: the median over the blocks.
     let mut thicknesses: Vec<f64> = block_top
         .iter()
         .zip(&block_bottom)

@@ -65,9 +65,10 @@ const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
 /// A part slides only along a direction in which it is at least this deep, as a share of its
 /// longest extent (a drawer's depth, not a door's thickness).
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
-/// A part whose thinnest box extent is under this fraction of the middle one is a slab: it does
-/// not slide along its thinnest axis (a thick door is not a drawer) ...
-const SLAB_RATIO: f64 = 0.5;
+/// A part whose thinnest box extent is under this fraction of the middle one is a slab: it has
+/// an outer face that can carry a handle ([`panel_handle`]), and it does not slide along its
+/// thinnest axis (a thick door is not a drawer) ...
+pub(crate) const SLAB_RATIO: f64 = 0.5;
 /// ... which is a direction in which it is no deeper than this many times its thinnest extent
 /// (box axes and slide axes agree to a few percent).
 const SLAB_DEPTH_SLACK: f64 = 1.1;

@@ -89,16 +89,13 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
     );
     assert!(notes.iter().any(|n| n.contains("seed 5")), "{notes:?}");
 
-    let o = uniphys(&[
-        "eval",
-        "--pred",
-        &out_s,
-        "--gt",
-        &gt,
-        "--rotate-seed",
-        "5",
-        "--json",
-    ]);
+    // `uniphys eval` of the run against its source, in the run's rotated frame.
+    let eval_run = |extra: &[&str]| {
+        let mut args = vec!["eval", "--pred", &out_s, "--gt", &gt, "--rotate-seed", "5"];
+        args.extend_from_slice(extra);
+        uniphys(&args)
+    };
+    let o = eval_run(&["--json"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let eval: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json report");
     assert_eq!(eval["schema_version"], "uniphys.eval.v1");
@@ -107,7 +104,7 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
     assert!(k["paper_metrics"]["joint_type_accuracy"].is_number(), "{k}");
     assert_eq!(k["counts"]["joint_type"], 1);
 
-    let o = uniphys(&["eval", "--pred", &out_s, "--gt", &gt, "--rotate-seed", "5"]);
+    let o = eval_run(&[]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains("### kinematic_parameters") && text.contains("| joint_type_accuracy |"),
@@ -116,17 +113,7 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
 
     assert!(eval.get("joints").is_none(), "joints only with --per-joint");
 
-    let o = uniphys(&[
-        "eval",
-        "--pred",
-        &out_s,
-        "--gt",
-        &gt,
-        "--rotate-seed",
-        "5",
-        "--json",
-        "--per-joint",
-    ]);
+    let o = eval_run(&["--json", "--per-joint"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let eval: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json report");
     let joints = eval["joints"].as_array().expect("a joints array");
@@ -135,16 +122,7 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
     assert_eq!(joints[0]["part"], "door");
     assert_eq!(joints[0]["gt_kind"], "revolute");
     assert!(joints[0]["predicted_kind"].is_string(), "{joints:?}");
-    let o = uniphys(&[
-        "eval",
-        "--pred",
-        &out_s,
-        "--gt",
-        &gt,
-        "--rotate-seed",
-        "5",
-        "--per-joint",
-    ]);
+    let o = eval_run(&["--per-joint"]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("| cabinet | door | revolute |"), "{text}");
 }
