@@ -11,6 +11,8 @@
 //! - [`load_asset`], [`detect_format`], [`LoadedAsset`]: entry points (`load.rs`).
 //! - [`IngestOptions`]: units, up axis, limits, ignored joints and a rotation (`options.rs`);
 //!   [`AssetRotation`]: a seeded uniform random rotation (`rotation.rs`).
+//! - [`InputFacts`], [`InputUnits`]: whether the coordinates have a unit, and the kind a
+//!   PartNet-Mobility `meta.json` names (`facts.rs`).
 //! - [`IngestError`], [`IngestResult`]: errors (`error.rs`).
 //! - Format readers: `gltf.rs` (+ `gltf_data.rs`), `obj.rs`, `ply.rs`, `stl.rs`, `urdf.rs`
 //!   (+ `urdf_tree.rs`, `urdf_joints.rs`), `primitives.rs` (URDF shapes), `texture.rs`.
@@ -20,6 +22,7 @@
 mod checks;
 mod digest;
 mod error;
+mod facts;
 mod gltf;
 mod gltf_data;
 mod guard;
@@ -38,6 +41,7 @@ mod urdf_joints;
 mod urdf_tree;
 
 pub use error::{IngestError, IngestResult};
+pub use facts::{InputFacts, InputUnits};
 pub use load::{LoadedAsset, default_up_axis, detect_format, load_asset};
 pub use options::IngestOptions;
 pub use rotation::{AssetRotation, uniform_rotation};

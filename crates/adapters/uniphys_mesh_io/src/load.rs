@@ -8,6 +8,7 @@ use uniphys_geometry::{DMat4, DVec3, MeshAsset};
 use uniphys_types::{SourceFormat, SourceInfo, UpAxis};
 
 use crate::checks::sanitize;
+use crate::facts::{InputFacts, input_facts};
 use crate::source::Session;
 use crate::{IngestError, IngestOptions, IngestResult, gltf, obj, ply, stl, urdf};
 
@@ -23,6 +24,8 @@ pub struct LoadedAsset {
     /// What was tolerated rather than refused (a missing MTL file: the geometry loads without its
     /// materials), one sentence each.
     pub warnings: Vec<String>,
+    /// Whether the coordinates have a known unit, and the object's kind if the input names it.
+    pub facts: InputFacts,
 }
 
 /// The format of `path` by its extension (`.glb .gltf .obj .ply .stl .urdf`, any case). A
@@ -104,7 +107,8 @@ pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAs
         asset.transform(&DMat4::from_quat(rotation.rotated_from_input));
     }
     let dropped_degenerate_triangles = session.dropped_degenerate;
-    let warnings = std::mem::take(&mut session.warnings);
+    let mut warnings = std::mem::take(&mut session.warnings);
+    let facts = input_facts(&main, format, &mut warnings);
     Ok(LoadedAsset {
         asset,
         source: SourceInfo {
@@ -118,6 +122,7 @@ pub fn load_asset(path: &Path, options: &IngestOptions) -> IngestResult<LoadedAs
         },
         dropped_degenerate_triangles,
         warnings,
+        facts,
     })
 }
 

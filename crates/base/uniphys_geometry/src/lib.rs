@@ -1,7 +1,7 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
-//! sampling, voxelised volume, mass properties, contact regions between parts, plane fitting,
-//! k-means, convex decomposition, and the sRGB and texel helpers the renderers share. Synchronous,
-//! CPU only, deterministic for a given seed.
+//! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions
+//! between parts, plane fitting, k-means, convex decomposition, and the sRGB and texel helpers the
+//! renderers share. Synchronous, CPU only, deterministic for a given seed.
 //!
 //! Coordinates are `f64` metres in the object frame (Z up) once an asset has been ingested.
 
@@ -24,6 +24,7 @@ mod orientation;
 mod plane;
 mod rng;
 mod sampling;
+mod shell;
 mod solid;
 #[cfg(test)]
 mod test_shapes;
@@ -50,5 +51,6 @@ pub use orientation::{box_axes, principal_axes, projection_range};
 pub use plane::{Plane, fit_plane, fit_plane_ransac};
 pub use rng::SplitMix64;
 pub use sampling::{SurfaceSamples, sample_points, sample_surface};
+pub use shell::WallSamples;
 pub use solid::{VolumeMethod, solid_mass_properties};
 pub use voxel::{MAX_VOXEL_RESOLUTION, VoxelGrid, voxelize};

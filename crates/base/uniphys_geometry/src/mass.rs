@@ -56,6 +56,35 @@ impl MassProperties {
     pub fn inertia_kg_m2(&self, density_kg_per_m3: f64) -> DMat3 {
         self.inertia_about_com_per_density * density_kg_per_m3
     }
+
+    /// The body made of `bodies`, each `(properties, fraction)` filled to that fraction of its
+    /// volume (a fraction scales its volume and inertia alike), by the parallel-axis theorem.
+    /// `None` when the total volume is not positive.
+    #[must_use]
+    pub fn combined(bodies: &[(Self, f64)]) -> Option<Self> {
+        let volume: f64 = bodies.iter().map(|(b, f)| b.volume_m3 * f).sum();
+        if !(volume.is_finite() && volume > 0.0) {
+            return None;
+        }
+        let com = bodies
+            .iter()
+            .map(|(b, f)| b.com * (b.volume_m3 * f))
+            .sum::<DVec3>()
+            / volume;
+        let inertia = bodies
+            .iter()
+            .map(|(b, f)| {
+                let d = b.com - com;
+                let shift = DMat3::from_diagonal(DVec3::splat(d.length_squared())) - outer(d);
+                (b.inertia_about_com_per_density + shift * b.volume_m3) * *f
+            })
+            .fold(DMat3::ZERO, |a, b| a + b);
+        Some(Self {
+            volume_m3: volume,
+            com,
+            inertia_about_com_per_density: symmetrised(inertia),
+        })
+    }
 }
 
 /// Zeroth, first and second volume moments about a reference point, for density 1.
@@ -173,6 +202,28 @@ mod tests {
             DMat3::from_diagonal(DVec3::new(5.0, 6.5, 2.5)),
             1e-9,
         );
+    }
+
+    #[test]
+    fn two_boxes_combined_are_the_box_they_make() {
+        let whole =
+            MassProperties::from_closed_mesh(&unit_box(DVec3::ZERO, DVec3::new(2.0, 1.0, 1.0)))
+                .unwrap();
+        let left = MassProperties::from_closed_mesh(&unit_box(DVec3::ZERO, DVec3::ONE)).unwrap();
+        let right =
+            MassProperties::from_closed_mesh(&unit_box(DVec3::X, DVec3::new(2.0, 1.0, 1.0)))
+                .unwrap();
+        let both = MassProperties::combined(&[(left, 1.0), (right, 1.0)]).unwrap();
+        assert!((both.volume_m3 - whole.volume_m3).abs() < 1e-12);
+        assert!((both.com - whole.com).length() < 1e-12);
+        assert_mat_close(
+            both.inertia_about_com_per_density,
+            whole.inertia_about_com_per_density,
+            1e-12,
+        );
+        let half = MassProperties::combined(&[(left, 0.5)]).unwrap();
+        assert!((half.volume_m3 - 0.5).abs() < 1e-12);
+        assert!(MassProperties::combined(&[(left, 0.0)]).is_none());
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! degrees) live in [`units`] and are applied only at the edges.
 
 mod asset;
+mod category;
 mod error;
 mod ids;
 mod joint;
@@ -14,9 +15,13 @@ mod properties;
 mod provenance;
 mod report;
 pub mod units;
+pub mod words;
 
 pub use asset::{
     AssetRecord, PartMass, PartRecord, SCHEMA_VERSION, SourceFormat, SourceInfo, UpAxis,
+};
+pub use category::{
+    CATEGORY_PRIORS, CategoryPrior, HOLLOW, MASS_BAND_FACTOR, PACKED, SIZE_BAND_FACTOR, SOLID,
 };
 pub use error::{TypesError, TypesResult};
 pub use ids::PartId;

@@ -9,7 +9,7 @@ use uniphys_types::{
 };
 
 use crate::BUILTIN_PROVIDER;
-use crate::keywords::{first_match, tokens};
+use uniphys_types::words::{first_match, tokens};
 
 /// Typical values of common subtypes: (keyword, density kg/m^3, Young's modulus GPa, hardness HV,
 /// Poisson's ratio, friction). Handbook values, nudged into the reference prior where they fall

@@ -2,9 +2,14 @@
 //! articulation without any model or network. Every value it produces names it
 //! ([`BUILTIN_PROVIDER`]) in its provenance, or says it is a default.
 //!
-//! - materials from glTF/MTL material names, then part names ([`ground_part`]);
+//! - materials from glTF/MTL material names, then part names, then the kind's body material
+//!   ([`ground_part`]);
 //! - properties from typical values of known subtypes or the centre of the material prior;
+//! - the object's kind from what the input names ([`object_kind`]): its typical size, mass and
+//!   body material (`uniphys_types::CategoryPrior`);
 //! - object name, category, dimensions and mass ([`object_properties`]);
+//! - how much material a part holds: its solid or a wall along its surface, whichever is less
+//!   ([`part_mass_model`]);
 //! - joints ([`articulate`]): declared ones completed; when no part name says that it slides or
 //!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
 //!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
@@ -25,7 +30,6 @@ mod hinge_range;
 mod hypotheses;
 mod intrinsic;
 mod joint_geometry;
-mod keywords;
 mod material_guess;
 mod motion_search;
 mod object;
@@ -34,6 +38,7 @@ mod small_part;
 mod spin;
 mod tree;
 mod unnamed;
+mod wall;
 
 pub use articulate::{Articulation, PartInput, articulate, sanitize};
 pub use dynamics::{
@@ -41,16 +46,22 @@ pub use dynamics::{
     RigidMass, joint_dynamics, max_stable_damping, parallel_axis,
 };
 pub use error::{GroundError, GroundResult};
-pub use object::object_properties;
+pub use object::{ObjectKind, object_kind, object_properties};
+pub use wall::{PartMassInput, PartMassModel, part_mass_model, wall_thickness_m};
 
 use uniphys_types::PartProperties;
 
 /// Provider name of the built-in grounder, as it appears in provenance.
 pub const BUILTIN_PROVIDER: &str = "builtin-grounder";
 
-/// Material and intrinsic properties of one part from its material names and its part name.
+/// Material and intrinsic properties of one part from its material names, its part name and the
+/// object's kind (whose body material stands in when no name says anything).
 #[must_use]
-pub fn ground_part(material_names: &[&str], part_name: &str) -> PartProperties {
-    let (material, provenance) = material_guess::guess_material(material_names, part_name);
+pub fn ground_part(
+    material_names: &[&str],
+    part_name: &str,
+    kind: Option<&ObjectKind>,
+) -> PartProperties {
+    let (material, provenance) = material_guess::guess_material(material_names, part_name, kind);
     intrinsic::part_properties(material, provenance, part_name)
 }

@@ -3,7 +3,8 @@
 use uniphys_types::{Material, MaterialCategory, Provenance};
 
 use crate::BUILTIN_PROVIDER;
-use crate::keywords::{first_match, tokens};
+use crate::object::ObjectKind;
+use uniphys_types::words::{first_match, tokens};
 
 /// Keywords per category, checked in this order (so `glass` wins over `metal` for `glass_frame`
 /// only if no earlier category matched; the order puts specific materials first).
@@ -117,8 +118,17 @@ const PART_NAME_HINTS: [(MaterialCategory, &[&str]); 5] = [
     ),
 ];
 
-/// The material the built-in grounder assigns, with its provenance.
-pub(crate) fn guess_material(material_names: &[&str], part_name: &str) -> (Material, Provenance) {
+/// Part-name words that name a panel of the object's body: such a part is made of what the body
+/// is when the object's kind is known (a refrigerator's door is steel, a cabinet's is wood).
+const BODY_PANEL_WORDS: [&str; 6] = ["cabinet", "drawer", "door", "shelf", "table", "desk"];
+
+/// The material the built-in grounder assigns, with its provenance: from the material names,
+/// else the part name, else the body material of the object's kind, else plastic.
+pub(crate) fn guess_material(
+    material_names: &[&str],
+    part_name: &str,
+    kind: Option<&ObjectKind>,
+) -> (Material, Provenance) {
     for name in material_names {
         let toks = tokens(name);
         for (category, keywords) in CATEGORY_KEYWORDS {
@@ -142,7 +152,11 @@ pub(crate) fn guess_material(material_names: &[&str], part_name: &str) -> (Mater
         }
     }
     let toks = tokens(part_name);
+    let names_body_panel = first_match(&toks, &BODY_PANEL_WORDS).is_some();
     for (category, keywords) in PART_NAME_HINTS.iter().chain(CATEGORY_KEYWORDS.iter()) {
+        if names_body_panel && kind.is_some() && *category == MaterialCategory::Wood {
+            break;
+        }
         if let Some(keyword) = first_match(&toks, keywords) {
             return (
                 Material {
@@ -155,6 +169,24 @@ pub(crate) fn guess_material(material_names: &[&str], part_name: &str) -> (Mater
                 ),
             );
         }
+    }
+    if let Some(kind) = kind {
+        let (category, subtype) = kind.prior.body_material;
+        return (
+            Material {
+                category,
+                subtype: subtype.to_owned(),
+            },
+            Provenance::provider(
+                BUILTIN_PROVIDER,
+                format!(
+                    "no name gave the material; the body of a {} is usually {} ({})",
+                    kind.prior.noun(),
+                    category.as_str(),
+                    kind.evidence
+                ),
+            ),
+        );
     }
     (
         Material {
@@ -173,11 +205,11 @@ mod tests {
 
     #[test]
     fn material_names_win_over_part_names() {
-        let (m, p) = guess_material(&["wood_oak"], "door_handle");
+        let (m, p) = guess_material(&["wood_oak"], "door_handle", None);
         assert_eq!(m.category, MaterialCategory::Wood);
         assert_eq!(m.subtype, "oak");
         assert!(matches!(p, Provenance::Provider { .. }));
-        let (m, _) = guess_material(&["Material.001", "metal_steel"], "door");
+        let (m, _) = guess_material(&["Material.001", "metal_steel"], "door", None);
         assert_eq!(
             (m.category, m.subtype.as_str()),
             (MaterialCategory::Metal, "steel")
@@ -187,15 +219,37 @@ mod tests {
     #[test]
     fn part_names_are_a_fallback_and_plastic_the_labelled_default() {
         assert_eq!(
-            guess_material(&["Material.001"], "door_handle").0.category,
+            guess_material(&["Material.001"], "door_handle", None)
+                .0
+                .category,
             MaterialCategory::Metal
         );
         assert_eq!(
-            guess_material(&[], "lcd_screen").0.category,
+            guess_material(&[], "lcd_screen", None).0.category,
             MaterialCategory::Glass
         );
-        let (m, p) = guess_material(&[], "blob");
+        let (m, p) = guess_material(&[], "blob", None);
         assert_eq!(m.category, MaterialCategory::Plastic);
         assert!(matches!(p, Provenance::Default { .. }));
+    }
+
+    #[test]
+    fn the_kind_gives_the_body_material_when_no_name_does() {
+        let fridge = crate::object_kind(Some("Refrigerator"), "x", &[], &[]);
+        let (m, p) = guess_material(&["material_0"], "link_3", fridge.as_ref());
+        assert_eq!(
+            (m.category, m.subtype.as_str()),
+            (MaterialCategory::Metal, "steel")
+        );
+        assert!(format!("{p:?}").contains("refrigerator"), "{p:?}");
+        // A door takes the body's material; a wheel or a handle keeps its own.
+        let (m, _) = guess_material(&[], "door_1", fridge.as_ref());
+        assert_eq!(m.category, MaterialCategory::Metal);
+        assert_eq!(
+            guess_material(&[], "door_1", None).0.category,
+            MaterialCategory::Wood
+        );
+        let (m, _) = guess_material(&[], "wheel_2", fridge.as_ref());
+        assert_eq!(m.category, MaterialCategory::Rubber);
     }
 }

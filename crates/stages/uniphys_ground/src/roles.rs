@@ -1,7 +1,7 @@
 //! What a part is for, read from its name: the root body, a sliding or hinged part, or a small
 //! attachment (handle, knob) that moves with whatever it is fixed to.
 
-use crate::keywords::{first_match, tokens};
+use uniphys_types::words::{first_match, tokens};
 
 /// The role of a part in the articulation heuristic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,4 +1,5 @@
-//! The in-process UniPhys pipeline for one asset, needing no servers: ingest, prepare (frame and
+//! The in-process UniPhys pipeline for one asset, needing no servers: ingest (and, with
+//! `--unit auto`, a real size for inputs in normalised units: `real_scale.rs`), prepare (frame and
 //! mass properties), colliders (convex decomposition), ground (built-in grounder, optionally a
 //! UniPhysGen model server or an LVLM), verify (intrinsic checks, articulation sweeps with correction) and
 //! export.
@@ -11,6 +12,7 @@ mod lvlm;
 mod parallel;
 mod preview;
 mod progress;
+mod real_scale;
 mod run;
 mod verify;
 

@@ -14,10 +14,13 @@ use uniphys_decompose::{
 };
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
-    ConvexParams, MassProperties, MeshAsset, TriMesh, VolumeMethod, convex_decomposition,
-    min_distance_m, solid_mass_properties,
+    ConvexParams, DMat4, DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod, WallSamples,
+    convex_decomposition, min_distance_m, solid_mass_properties,
 };
-use uniphys_ground::{PartInput, RigidMass, articulate, ground_part, object_properties, sanitize};
+use uniphys_ground::{
+    ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part, object_kind,
+    object_properties, part_mass_model, sanitize,
+};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{
     AssetRecord, CheckOutcome, CheckResult, Estimate, PartId, PartMass, PartRecord, Provenance,
@@ -29,6 +32,7 @@ use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
 use crate::parallel::par_map;
 use crate::preview::{PREVIEW_PATH, preview_png};
+use crate::real_scale::auto_scale;
 use crate::verify::{VerifyOptions, verify};
 use crate::{PipelineError, PipelineResult, Progress, Stage};
 
@@ -60,6 +64,11 @@ pub struct RunOptions {
     /// A face-to-part map of the input's merged mesh computed earlier (the queue's `decompose`
     /// stage): applied right after ingest instead of decomposing again.
     pub face_parts: Option<Vec<u32>>,
+    /// `--unit auto`: an input whose coordinates are not a length (a PartNet-Mobility folder)
+    /// is scaled to the typical size of its kind, and one whose unit makes it implausible for
+    /// its kind is read in the common unit that fits (see `real_scale.rs`); off when the user
+    /// gave the unit (`ingest.metres_per_unit` is then used as is).
+    pub unit_auto: bool,
 }
 
 impl Default for RunOptions {
@@ -75,6 +84,7 @@ impl Default for RunOptions {
             decompose: None,
             decompose_mode: DecomposeMode::Always,
             face_parts: None,
+            unit_auto: true,
         }
     }
 }
@@ -113,10 +123,18 @@ impl Clock<'_> {
     }
 }
 
+/// Samples of a part's surface for its wall model.
+const WALL_SAMPLES: usize = 4000;
+/// Seed of those samples.
+const WALL_SEED: u64 = 0x5EED;
+
 /// Prepared geometry of one part.
 pub(crate) struct Prepared {
+    /// The solid the part's surface encloses (its voxels when it is open).
     pub(crate) mass: MassProperties,
     pub(crate) method: VolumeMethod,
+    /// The part's surface sampled with the gaps between its walls (`None` when it has no area).
+    pub(crate) walls: Option<WallSamples>,
 }
 
 /// Runs ingest, prepare, ground, colliders and export on the asset at `path`.
@@ -131,7 +149,7 @@ pub fn run(
     };
     let name = asset_name(path);
 
-    let (mut asset, source, dropped, ingest_warnings, decompose_note) =
+    let (mut asset, mut source, dropped, ingest_warnings, facts, decompose_note) =
         clock.stage(Stage::Ingest, || {
         let mut loaded = load_asset(path, &options.ingest)?;
         let mut summary = format!(
@@ -182,12 +200,32 @@ pub fn run(
                 loaded.source,
                 loaded.dropped_degenerate_triangles,
                 loaded.warnings,
+                loaded.facts,
                 decompose_note,
             ),
             summary,
         ))
     })?;
     let mut notes: Vec<String> = decompose_note.into_iter().collect();
+    let kind = {
+        let part_names: Vec<&str> = asset.parts.iter().map(|p| p.name.as_str()).collect();
+        let material_names: Vec<&str> = asset.materials.iter().map(|m| m.name.as_str()).collect();
+        object_kind(
+            facts.declared_category.as_deref(),
+            &name,
+            &part_names,
+            &material_names,
+        )
+    };
+    if options.unit_auto {
+        let largest_side_m = asset.bounds().extents().max_element();
+        let (factor, note) = auto_scale(facts.units, kind.as_ref(), largest_side_m);
+        if factor != 1.0 {
+            asset.transform(&DMat4::from_scale(DVec3::splat(factor)));
+            source.metres_per_unit *= factor;
+        }
+        notes.extend(note);
+    }
     if dropped > 0 {
         notes.push(format!(
             "{dropped} zero-area triangles were dropped at ingest"
@@ -213,7 +251,11 @@ pub fn run(
         let done = AtomicUsize::new(0);
         let prepared: Vec<PipelineResult<Prepared>> = par_map(&asset.parts, |_, part| {
             let result = solid_mass_properties(&part.mesh, options.voxel_resolution)
-                .map(|(mass, method)| Prepared { mass, method })
+                .map(|(mass, method)| Prepared {
+                    mass,
+                    method,
+                    walls: WallSamples::of_mesh(&part.mesh, WALL_SAMPLES, WALL_SEED),
+                })
                 .map_err(|source| PipelineError::Geometry {
                     part: part.name.clone(),
                     source,
@@ -253,7 +295,8 @@ pub fn run(
     })?;
 
     let (record, articulation_notes) = clock.stage(Stage::Ground, || {
-        let (mut record, mut notes) = ground(&name, source, &asset, &prepared, &colliders)?;
+        let (mut record, mut notes) =
+            ground(&name, source, kind.as_ref(), &asset, &prepared, &colliders)?;
         if let Some(learned) = &options.learned {
             notes.extend(ground_learned(
                 &asset,
@@ -362,27 +405,46 @@ pub fn asset_name(path: &Path) -> String {
 fn ground(
     name: &str,
     source: uniphys_types::SourceInfo,
+    kind: Option<&ObjectKind>,
     asset: &MeshAsset,
     prepared: &[Prepared],
     colliders: &[Vec<TriMesh>],
 ) -> PipelineResult<(AssetRecord, Vec<String>)> {
     let mut parts = Vec::with_capacity(asset.parts.len());
     let mut rigid = Vec::with_capacity(asset.parts.len());
+    let mut shells = 0;
     for (i, (part, prep)) in asset.parts.iter().zip(prepared).enumerate() {
         let material_names: Vec<&str> = materials_by_coverage(&part.mesh)
             .into_iter()
             .filter_map(|m| asset.materials.get(m as usize).map(|mat| mat.name.as_str()))
             .collect();
-        let properties = ground_part(&material_names, &part.name);
+        let properties = ground_part(&material_names, &part.name, kind);
         let density = properties.density_kg_per_m3.value;
-        let mass_kg = prep.mass.mass_kg(density);
-        let inertia = prep.mass.inertia_kg_m2(density);
+        let bounds = part.mesh.bounds();
+        let hull_bodies: Vec<(MassProperties, f64)> = colliders[i]
+            .iter()
+            .filter_map(MassProperties::from_closed_mesh)
+            .map(|hull| (hull, 1.0))
+            .collect();
+        let hulls = MassProperties::combined(&hull_bodies);
+        let model = part_mass_model(&PartMassInput {
+            solid: &prep.mass,
+            solid_method: prep.method,
+            walls: prep.walls.as_ref(),
+            hulls: hulls.as_ref(),
+            material: properties.material.value.category,
+            largest_side_m: bounds.extents().max_element(),
+            interior_fill: kind.map_or(0.0, |k| k.prior.interior_fill),
+        });
+        let walls = model.method.starts_with("shell_");
+        shells += usize::from(walls);
+        let mass_kg = model.mass.mass_kg(density);
+        let inertia = model.mass.inertia_kg_m2(density);
         rigid.push(RigidMass {
             mass_kg,
-            com: prep.mass.com,
+            com: model.mass.com,
             inertia_about_com_kg_m2: inertia,
         });
-        let bounds = part.mesh.bounds();
         parts.push(PartRecord {
             id: PartId(u32::try_from(i).unwrap_or(u32::MAX)),
             name: part.name.clone(),
@@ -390,10 +452,17 @@ fn ground(
             bounds_in_object_m: [bounds.min.to_array(), bounds.max.to_array()],
             properties,
             mass: PartMass {
-                volume_m3: prep.mass.volume_m3,
-                volume_method: prep.method.to_string(),
-                mass_kg: Estimate::new(mass_kg, Provenance::rule("density_times_volume")),
-                com_in_object_m: prep.mass.com.to_array(),
+                volume_m3: model.mass.volume_m3,
+                volume_method: model.method,
+                mass_kg: Estimate::new(
+                    mass_kg,
+                    Provenance::rule(if walls {
+                        "density_times_surface_area_times_wall_thickness"
+                    } else {
+                        "density_times_volume"
+                    }),
+                ),
+                com_in_object_m: model.mass.com.to_array(),
                 inertia_about_com_kg_m2: inertia.transpose().to_cols_array_2d(),
             },
         });
@@ -412,15 +481,13 @@ fn ground(
             colliders: hulls,
         })
         .collect();
-    let articulation = articulate(&inputs, &asset.joints)?;
-    let part_names: Vec<&str> = asset.parts.iter().map(|p| p.name.as_str()).collect();
+    let mut articulation = articulate(&inputs, &asset.joints)?;
     let masses: Vec<f64> = rigid.iter().map(|r| r.mass_kg).collect();
-    let object = object_properties(
-        name,
-        &part_names,
-        asset.bounds().extents().to_array(),
-        &masses,
-    );
+    let object = object_properties(name, kind, asset.bounds().extents().to_array(), &masses);
+    articulation.notes.push(format!(
+        "mass: {shells} of {} parts are walls along their surface (less material than the solid they enclose), the others solid",
+        asset.parts.len()
+    ));
     let record = AssetRecord {
         schema_version: SCHEMA_VERSION,
         name: name.to_owned(),

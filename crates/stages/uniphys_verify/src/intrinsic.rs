@@ -1,10 +1,13 @@
 //! Intrinsic verification (reference 11.3, with hardness checked against the prior too): per
-//! part levels 0-3, per object level 4 (mass against density times volume).
+//! part levels 0-3, per object level 4 (mass against density times volume), and the object's
+//! plausibility against real objects of its kind (warnings).
 
 use std::collections::BTreeMap;
 
 use uniphys_geometry::{Aabb, DVec3};
 use uniphys_types::{AssetRecord, CheckOutcome, CheckResult, PartRecord, ReportSection};
+
+use crate::plausibility::plausibility_checks;
 
 /// Object mass check: failure when `|sum - mass| / mass` exceeds this (reference: 0.5).
 pub const MASS_RELATIVE_ERROR_MAX: f64 = 0.5;
@@ -38,6 +41,7 @@ pub fn verify_intrinsic(record: &AssetRecord) -> IntrinsicOutcome {
     let mut checks: Vec<CheckResult> = record.parts.iter().flat_map(part_checks).collect();
     let (mass_check, mut metrics) = object_mass_check(record);
     checks.push(mass_check);
+    checks.extend(plausibility_checks(record));
     for level in 0..=4 {
         let prefix = format!("level{level}_");
         let failures = checks

@@ -24,6 +24,7 @@ mod intrinsic;
 mod motion;
 mod patch;
 mod penetration;
+mod plausibility;
 mod scene;
 mod sweep;
 
@@ -38,5 +39,6 @@ pub use error::{VerifyError, VerifyResult};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use patch::{PatchParams, grow_patch};
+pub use plausibility::plausibility_checks;
 pub use scene::{Scene, moving_group};
 pub use sweep::{SweepMetrics, SweepParams, sweep};

@@ -181,8 +181,11 @@ pub struct RunArgs {
     /// Up axis of the input coordinates.
     #[arg(long, value_enum, default_value_t = UpArg::Auto)]
     pub up: UpArg,
-    /// Unit of the input coordinates: m, cm, mm, in, ft, or metres per unit as a number.
-    #[arg(long, default_value = "m")]
+    /// Unit of the input coordinates: m, cm, mm, in, ft, a number of metres per unit, or auto:
+    /// a PartNet-Mobility folder (normalised coordinates) is scaled to the typical size of its
+    /// kind, and an input whose size in metres is implausible for its kind is read in the
+    /// common unit that fits; any other input is in metres.
+    #[arg(long, default_value = "auto")]
     pub unit: String,
     /// Refuse inputs with more triangles than this.
     #[arg(long, default_value_t = 2_000_000)]
@@ -284,8 +287,17 @@ pub struct PointsArgs {
     pub num_bins: u32,
 }
 
-/// Metres per unit for a `--unit` value.
+/// Whether a `--unit` value asks for `auto`.
+pub fn unit_is_auto(unit: &str) -> bool {
+    unit.trim().eq_ignore_ascii_case("auto")
+}
+
+/// Metres per unit for a `--unit` value (`auto` reads coordinates as metres; the pipeline then
+/// rescales when it should).
 pub fn metres_per_unit(unit: &str) -> anyhow::Result<f64> {
+    if unit_is_auto(unit) {
+        return Ok(1.0);
+    }
     let value = match unit.trim().to_ascii_lowercase().as_str() {
         "m" | "meter" | "metre" | "meters" | "metres" => 1.0,
         "cm" => 0.01,
@@ -294,7 +306,7 @@ pub fn metres_per_unit(unit: &str) -> anyhow::Result<f64> {
         "ft" | "foot" | "feet" => 0.3048,
         other => other.parse::<f64>().map_err(|_| {
             anyhow::anyhow!(
-                "unknown unit {unit:?}: use m, cm, mm, in, ft, or a number of metres per unit"
+                "unknown unit {unit:?}: use auto, m, cm, mm, in, ft, or a number of metres per unit"
             )
         })?,
     };

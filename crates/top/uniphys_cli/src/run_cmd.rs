@@ -7,7 +7,7 @@ use uniphys_pipeline::{LearnedOptions, RunOptions, run as run_pipeline};
 use uniphys_storage::ArtifactStore;
 use uniphys_uniphysgen::ClientConfig;
 
-use crate::args::{RunArgs, metres_per_unit};
+use crate::args::{RunArgs, metres_per_unit, unit_is_auto};
 use crate::out_dir::{check_out_dir, clear_out_dir};
 use crate::progress::StderrProgress;
 use crate::report_notes::with_notes;
@@ -28,6 +28,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             ..IngestOptions::default()
         },
         voxel_resolution: args.voxel_resolution,
+        unit_auto: unit_is_auto(&args.unit),
         ..RunOptions::default()
     };
     options.convex.max_hulls = args.max_hulls;

@@ -91,7 +91,7 @@ fn an_unknown_unit_is_refused_with_the_accepted_ones() {
         "furlong",
     ]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("use m, cm, mm, in, ft"));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("use auto, m, cm, mm, in, ft"));
 }
 
 #[test]

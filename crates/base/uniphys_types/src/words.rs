@@ -2,7 +2,7 @@
 
 /// Splits `text` into lower-case alphanumeric tokens, also at camelCase boundaries
 /// (`DoorHandle_01` -> `door`, `handle`, `01`).
-pub(crate) fn tokens(text: &str) -> Vec<String> {
+pub fn tokens(text: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut current = String::new();
     let mut prev_lower = false;
@@ -28,7 +28,7 @@ pub(crate) fn tokens(text: &str) -> Vec<String> {
 
 /// Whether a token matches a keyword: exactly for keywords of up to 3 letters, as a prefix for
 /// longer ones (`wooden` matches `wood`, `handles` matches `handle`).
-pub(crate) fn token_matches(token: &str, keyword: &str) -> bool {
+pub fn token_matches(token: &str, keyword: &str) -> bool {
     if keyword.len() <= 3 {
         token == keyword
     } else {
@@ -37,7 +37,7 @@ pub(crate) fn token_matches(token: &str, keyword: &str) -> bool {
 }
 
 /// The first keyword (in list order) that any token matches.
-pub(crate) fn first_match<'k>(tokens: &[String], keywords: &[&'k str]) -> Option<&'k str> {
+pub fn first_match<'k>(tokens: &[String], keywords: &[&'k str]) -> Option<&'k str> {
     keywords
         .iter()
         .copied()
