@@ -58,9 +58,9 @@ pub struct PartMassInput<'a> {
     pub material: MaterialCategory,
     /// Largest side of the part's box, m.
     pub largest_side_m: f64,
-    /// How much of what the walls enclose is filled (the object kind's `interior_fill`; 0 when
-    /// the kind is unknown).
-    pub interior_fill: f64,
+    /// How much of what the walls enclose is filled: the object kind's `interior_fill`, or
+    /// `None` when the kind is unknown (a closed part is then taken as the solid it bounds).
+    pub interior_fill: Option<f64>,
 }
 
 /// The mass properties a part's material fills, per unit density, and how they were found.
@@ -75,9 +75,10 @@ pub struct PartMassModel {
 
 /// The part as walls along its surface (at most [`wall_thickness_m`] thick) plus the
 /// `interior_fill` share of what they enclose (the closed solid, or the hulls of an open part;
-/// all of it for parts under [`SOLID_PART_SIZE_M`]);
-/// a closed part keeps its solid when that is less (a panel modelled with its real thickness,
-/// a small knob). Without wall samples (no area) the solid stands.
+/// all of it for parts under [`SOLID_PART_SIZE_M`]). A closed part keeps its solid when that is
+/// less (a panel modelled with its real thickness) or when the object's kind is unknown (a
+/// closed mesh is then taken at its word, as the solid it bounds). Without wall samples (no
+/// area) the solid stands.
 #[must_use]
 pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
     let solid_model = || PartMassModel {
@@ -86,6 +87,9 @@ pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
     };
     let thickness_m = wall_thickness_m(input.material, input.largest_side_m);
     let closed = input.solid_method == VolumeMethod::ClosedMesh;
+    if closed && input.interior_fill.is_none() {
+        return solid_model();
+    }
     let Some(wall) = input.walls.and_then(|w| w.with_wall(thickness_m)) else {
         return solid_model();
     };
@@ -101,7 +105,7 @@ pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
     let interior_fill = if input.largest_side_m < SOLID_PART_SIZE_M {
         1.0
     } else {
-        input.interior_fill
+        input.interior_fill.unwrap_or(0.0)
     };
     match interior.filter(|_| interior_fill > 0.0) {
         Some(inside) if inside.volume_m3 > wall.volume_m3 => {
@@ -152,7 +156,11 @@ mod tests {
         TriMesh::new(positions, triangles).unwrap()
     }
 
-    fn model_filled(mesh: &TriMesh, material: MaterialCategory, fill: f64) -> PartMassModel {
+    fn model_filled(
+        mesh: &TriMesh,
+        material: MaterialCategory,
+        fill: Option<f64>,
+    ) -> PartMassModel {
         let (solid, solid_method) = solid_mass_properties(mesh, 64).unwrap();
         let walls = WallSamples::of_mesh(mesh, 2000, 1);
         part_mass_model(&PartMassInput {
@@ -167,7 +175,7 @@ mod tests {
     }
 
     fn model(mesh: &TriMesh, material: MaterialCategory) -> PartMassModel {
-        model_filled(mesh, material, 0.0)
+        model_filled(mesh, material, Some(0.0))
     }
 
     #[test]
@@ -234,8 +242,13 @@ mod tests {
     fn a_packed_device_fills_part_of_what_its_walls_enclose() {
         let base = cuboid(DVec3::new(0.33, 0.23, 0.02));
         let hollow = model(&base, MaterialCategory::Plastic);
-        let packed = model_filled(&base, MaterialCategory::Plastic, 0.4);
-        let solid = model_filled(&base, MaterialCategory::Plastic, 1.0);
+        let packed = model_filled(&base, MaterialCategory::Plastic, Some(0.4));
+        let solid = model_filled(&base, MaterialCategory::Plastic, Some(1.0));
+        let unknown = model_filled(&base, MaterialCategory::Plastic, None);
+        assert_eq!(
+            unknown.method, "closed_mesh",
+            "a closed mesh of no known kind is solid"
+        );
         assert!(packed.method.ends_with("_fill_0.40"), "{}", packed.method);
         let enclosed = 0.33 * 0.23 * 0.02;
         let walls = hollow.mass.volume_m3;

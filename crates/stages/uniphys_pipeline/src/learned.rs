@@ -56,7 +56,7 @@ pub(crate) fn ground_learned(
     let mut notes = Vec::new();
 
     let physics = client.predict_parts(Task::Physics, &sample, &inputs)?;
-    for ((part, answer), prep) in record.parts.iter_mut().zip(&physics.parts).zip(prepared) {
+    for (part, answer) in record.parts.iter_mut().zip(&physics.parts) {
         let Some(values) = &answer.physical_properties else {
             notes.push(format!(
                 "{}: the model gave no physics; built-in values kept",
@@ -64,17 +64,19 @@ pub(crate) fn ground_learned(
             ));
             continue;
         };
+        let built_in_density = part.properties.density_kg_per_m3.value;
         part.properties = restore_physics(&answer.id, values, &physics.model)?;
-        let density = part.properties.density_kg_per_m3.value;
+        // The part's mass model (its walls and fill) stays; only the density changes.
+        let ratio = part.properties.density_kg_per_m3.value / built_in_density;
         part.mass.mass_kg = Estimate::new(
-            prep.mass.mass_kg(density),
+            part.mass.mass_kg.value * ratio,
             Provenance::rule("density_times_volume"),
         );
-        part.mass.inertia_about_com_kg_m2 = prep
-            .mass
-            .inertia_kg_m2(density)
-            .transpose()
-            .to_cols_array_2d();
+        for row in &mut part.mass.inertia_about_com_kg_m2 {
+            for value in row {
+                *value *= ratio;
+            }
+        }
     }
 
     let motion = client.predict_parts(Task::Kinematics, &sample, &inputs)?;

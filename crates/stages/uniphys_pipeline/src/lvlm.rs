@@ -96,18 +96,20 @@ pub(crate) fn ground_lvlm(
         &options.annotate,
     )?;
 
-    for ((part, properties), prep) in record.parts.iter_mut().zip(&annotation.parts).zip(prepared) {
+    for (part, properties) in record.parts.iter_mut().zip(&annotation.parts) {
+        let built_in_density = part.properties.density_kg_per_m3.value;
         part.properties = properties.clone();
-        let density = part.properties.density_kg_per_m3.value;
+        // The part's mass model (its walls and fill) stays; only the density changes.
+        let ratio = part.properties.density_kg_per_m3.value / built_in_density;
         part.mass.mass_kg = Estimate::new(
-            prep.mass.mass_kg(density),
+            part.mass.mass_kg.value * ratio,
             Provenance::rule("density_times_volume"),
         );
-        part.mass.inertia_about_com_kg_m2 = prep
-            .mass
-            .inertia_kg_m2(density)
-            .transpose()
-            .to_cols_array_2d();
+        for row in &mut part.mass.inertia_about_com_kg_m2 {
+            for value in row {
+                *value *= ratio;
+            }
+        }
     }
     record.object.name = annotation.object.name.clone();
     record.object.category = annotation.object.category.clone();

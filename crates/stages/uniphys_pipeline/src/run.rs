@@ -434,7 +434,7 @@ fn ground(
             hulls: hulls.as_ref(),
             material: properties.material.value.category,
             largest_side_m: bounds.extents().max_element(),
-            interior_fill: kind.map_or(0.0, |k| k.prior.interior_fill),
+            interior_fill: kind.map(|k| k.prior.interior_fill),
         });
         let walls = model.method.starts_with("shell_");
         shells += usize::from(walls);
