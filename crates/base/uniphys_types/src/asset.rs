@@ -2,7 +2,9 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Estimate, Joint, ObjectProperties, PartId, PartProperties, TypesError, TypesResult};
+use crate::{
+    Estimate, Joint, ObjectProperties, PartId, PartProperties, Provenance, TypesError, TypesResult,
+};
 
 /// Version of the [`AssetRecord`] schema. Bump it on any incompatible change.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -53,9 +55,11 @@ pub struct SourceInfo {
 /// Mass properties of a part, in the object frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PartMass {
-    /// Solid volume, m^3.
+    /// Volume of the part's material, m^3: its solid, or its walls and what fills them.
     pub volume_m3: f64,
-    /// How the volume was computed: `closed_mesh` (exact) or `voxels_128` (fallback for open meshes).
+    /// How the volume was computed: `closed_mesh` (exact), `voxels_128` (an open mesh's filled
+    /// voxels), `shell_<t>mm` (walls at most t thick) or `shell_<t>mm_fill_<f>` (walls and that
+    /// share of what they enclose).
     pub volume_method: String,
     /// Mass, kg.
     pub mass_kg: Estimate<f64>,
@@ -80,6 +84,24 @@ pub struct PartRecord {
     pub properties: PartProperties,
     /// Mass properties.
     pub mass: PartMass,
+}
+
+impl PartRecord {
+    /// Replaces the part's properties with another grounder's. The part's volume and centre of
+    /// mass stay; its mass and inertia follow the new density.
+    pub fn replace_properties(&mut self, properties: PartProperties) {
+        let ratio = properties.density_kg_per_m3.value / self.properties.density_kg_per_m3.value;
+        self.properties = properties;
+        self.mass.mass_kg = Estimate::new(
+            self.mass.mass_kg.value * ratio,
+            Provenance::rule("density_times_volume"),
+        );
+        for row in &mut self.mass.inertia_about_com_kg_m2 {
+            for value in row {
+                *value *= ratio;
+            }
+        }
+    }
 }
 
 /// An annotated asset: parts, properties, joints. The record every stage reads and extends.

@@ -81,10 +81,15 @@ impl CategoryPrior {
     /// keyword.
     #[must_use]
     pub fn in_words(text: &str) -> Option<(&'static Self, &'static str)> {
-        let toks = tokens(text);
+        Self::in_tokens(&tokens(text))
+    }
+
+    /// [`Self::in_words`] for words already split by [`crate::words::tokens`].
+    #[must_use]
+    pub fn in_tokens(toks: &[String]) -> Option<(&'static Self, &'static str)> {
         CATEGORY_PRIORS
             .iter()
-            .find_map(|c| first_match(&toks, c.keywords).map(|k| (c, k)))
+            .find_map(|c| first_match(toks, c.keywords).map(|k| (c, k)))
     }
 
     /// The kind of a grounded object: the one its name names, else the only kind of its

@@ -47,7 +47,7 @@ pub use dynamics::{
 };
 pub use error::{GroundError, GroundResult};
 pub use object::{ObjectKind, object_kind, object_properties};
-pub use wall::{PartMassInput, PartMassModel, part_mass_model, wall_thickness_m};
+pub use wall::{PartMassInput, PartMassModel, part_mass_model, wall_thickness_m, walls_matter};
 
 use uniphys_types::PartProperties;
 

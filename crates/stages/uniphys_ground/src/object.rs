@@ -1,7 +1,7 @@
 //! Object-level properties: the object's kind (from everything the input names), name,
 //! category, dimensions and mass.
 
-use uniphys_types::words::{first_match, tokens};
+use uniphys_types::words::{token_matches, tokens};
 use uniphys_types::{CategoryPrior, Estimate, ObjectProperties, Provenance};
 
 use crate::BUILTIN_PROVIDER;
@@ -44,9 +44,9 @@ pub fn object_kind(
     for name in part_names {
         let toks: Vec<String> = tokens(name)
             .into_iter()
-            .filter(|t| first_match(std::slice::from_ref(t), &PART_WORDS).is_none())
+            .filter(|t| !PART_WORDS.iter().any(|w| token_matches(t, w)))
             .collect();
-        if let Some((prior, keyword)) = CategoryPrior::in_words(&toks.join(" ")) {
+        if let Some((prior, keyword)) = CategoryPrior::in_tokens(&toks) {
             return kind(prior, format!("part name {name:?} suggests {keyword:?}"));
         }
     }

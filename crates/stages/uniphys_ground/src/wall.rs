@@ -5,7 +5,7 @@
 //! part's material is usually made (thicker for larger parts). A closed part keeps its solid
 //! when that is less (a small solid knob).
 
-use uniphys_geometry::{MassProperties, VolumeMethod, WallSamples};
+use uniphys_geometry::{MassProperties, TriMesh, VolumeMethod, WallSamples};
 use uniphys_types::MaterialCategory;
 
 /// Parts smaller than this (largest side, m) get thinner walls than their material's usual:
@@ -52,8 +52,8 @@ pub struct PartMassInput<'a> {
     pub solid_method: VolumeMethod,
     /// The surface with the gaps between its walls (`None` without area).
     pub walls: Option<&'a WallSamples>,
-    /// The part's convex hulls together: what an open part encloses (`None` without hulls).
-    pub hulls: Option<&'a MassProperties>,
+    /// The part's convex hulls: together, what an open part encloses.
+    pub hulls: &'a [TriMesh],
     /// The part's material.
     pub material: MaterialCategory,
     /// Largest side of the part's box, m.
@@ -86,32 +86,34 @@ pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
         method: input.solid_method.to_string(),
     };
     let thickness_m = wall_thickness_m(input.material, input.largest_side_m);
-    let closed = input.solid_method == VolumeMethod::ClosedMesh;
-    if closed && input.interior_fill.is_none() {
+    if !walls_matter(input.solid_method, input.interior_fill) {
         return solid_model();
     }
+    let closed = input.solid_method == VolumeMethod::ClosedMesh;
     let Some(wall) = input.walls.and_then(|w| w.with_wall(thickness_m)) else {
         return solid_model();
     };
     if closed && input.solid.volume_m3 <= wall.volume_m3 {
         return solid_model();
     }
-    let interior = if closed {
-        Some(input.solid)
-    } else {
-        input.hulls
-    };
     let method = format!("shell_{:.1}mm", thickness_m * 1000.0);
     let interior_fill = if input.largest_side_m < SOLID_PART_SIZE_M {
         1.0
     } else {
         input.interior_fill.unwrap_or(0.0)
     };
-    match interior.filter(|_| interior_fill > 0.0) {
+    let interior = if interior_fill <= 0.0 {
+        None
+    } else if closed {
+        Some(*input.solid)
+    } else {
+        hulls_together(input.hulls)
+    };
+    match interior {
         Some(inside) if inside.volume_m3 > wall.volume_m3 => {
             // The walls take their own share of the enclosed volume; the rest is filled.
             let fill = interior_fill * (1.0 - wall.volume_m3 / inside.volume_m3);
-            let mass = MassProperties::combined(&[(wall, 1.0), (*inside, fill)]).unwrap_or(wall);
+            let mass = MassProperties::combined(&[(wall, 1.0), (inside, fill)]).unwrap_or(wall);
             PartMassModel {
                 mass,
                 method: format!("{method}_fill_{interior_fill:.2}"),
@@ -121,39 +123,32 @@ pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
     }
 }
 
+/// Whether a part's walls can change its mass model: not for a closed part of an object of
+/// unknown kind (`interior_fill` `None`), which is the solid it bounds. Callers skip sampling
+/// the walls when they cannot matter.
+#[must_use]
+pub fn walls_matter(solid_method: VolumeMethod, interior_fill: Option<f64>) -> bool {
+    solid_method != VolumeMethod::ClosedMesh || interior_fill.is_some()
+}
+
+/// The solid the convex hulls make together (`None` without a closed hull).
+fn hulls_together(hulls: &[TriMesh]) -> Option<MassProperties> {
+    let bodies: Vec<(MassProperties, f64)> = hulls
+        .iter()
+        .filter_map(MassProperties::from_closed_mesh)
+        .map(|hull| (hull, 1.0))
+        .collect();
+    MassProperties::combined(&bodies)
+}
+
 #[cfg(test)]
 mod tests {
-    use uniphys_geometry::{DVec3, TriMesh, solid_mass_properties};
+    use uniphys_geometry::{DVec3, solid_mass_properties};
 
     use super::*;
 
     fn cuboid(size: DVec3) -> TriMesh {
-        let p = |x: f64, y: f64, z: f64| DVec3::new(x * size.x, y * size.y, z * size.z);
-        let positions = vec![
-            p(0.0, 0.0, 0.0),
-            p(1.0, 0.0, 0.0),
-            p(1.0, 1.0, 0.0),
-            p(0.0, 1.0, 0.0),
-            p(0.0, 0.0, 1.0),
-            p(1.0, 0.0, 1.0),
-            p(1.0, 1.0, 1.0),
-            p(0.0, 1.0, 1.0),
-        ];
-        let triangles = vec![
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [1, 2, 6],
-            [1, 6, 5],
-            [2, 3, 7],
-            [2, 7, 6],
-            [3, 0, 4],
-            [3, 4, 7],
-        ];
-        TriMesh::new(positions, triangles).unwrap()
+        TriMesh::cuboid(DVec3::ZERO, size)
     }
 
     fn model_filled(
@@ -167,7 +162,7 @@ mod tests {
             solid: &solid,
             solid_method,
             walls: walls.as_ref(),
-            hulls: None,
+            hulls: &[],
             material,
             largest_side_m: mesh.bounds().extents().max_element(),
             interior_fill: fill,

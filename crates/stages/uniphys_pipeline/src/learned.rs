@@ -7,7 +7,7 @@
 
 use uniphys_geometry::{DMat3, DVec3, MeshAsset, TriMesh};
 use uniphys_ground::{PartInput, RigidMass, articulate};
-use uniphys_types::{AssetRecord, Estimate, Joint, JointKind, Provenance};
+use uniphys_types::{AssetRecord, Joint, JointKind};
 use uniphys_uniphysgen::restore::{restore_motion, restore_object, restore_physics};
 use uniphys_uniphysgen::{
     ClientConfig, PointOptions, Task, UniPhysGenClient, model_inputs, prepare_points,
@@ -64,19 +64,7 @@ pub(crate) fn ground_learned(
             ));
             continue;
         };
-        let built_in_density = part.properties.density_kg_per_m3.value;
-        part.properties = restore_physics(&answer.id, values, &physics.model)?;
-        // The part's mass model (its walls and fill) stays; only the density changes.
-        let ratio = part.properties.density_kg_per_m3.value / built_in_density;
-        part.mass.mass_kg = Estimate::new(
-            part.mass.mass_kg.value * ratio,
-            Provenance::rule("density_times_volume"),
-        );
-        for row in &mut part.mass.inertia_about_com_kg_m2 {
-            for value in row {
-                *value *= ratio;
-            }
-        }
+        part.replace_properties(restore_physics(&answer.id, values, &physics.model)?);
     }
 
     let motion = client.predict_parts(Task::Kinematics, &sample, &inputs)?;

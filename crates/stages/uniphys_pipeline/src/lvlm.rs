@@ -16,7 +16,7 @@ use uniphys_ground::{PartInput, RigidMass, articulate};
 use uniphys_lvlm::{
     AnswerCache, CostLedger, DirCache, LvlmClient, LvlmConfig, NoCache, NoRateLimit, RateLimiter,
 };
-use uniphys_types::{AssetRecord, Estimate, Provenance};
+use uniphys_types::AssetRecord;
 
 use crate::PipelineResult;
 use crate::colors::part_color;
@@ -97,19 +97,7 @@ pub(crate) fn ground_lvlm(
     )?;
 
     for (part, properties) in record.parts.iter_mut().zip(&annotation.parts) {
-        let built_in_density = part.properties.density_kg_per_m3.value;
-        part.properties = properties.clone();
-        // The part's mass model (its walls and fill) stays; only the density changes.
-        let ratio = part.properties.density_kg_per_m3.value / built_in_density;
-        part.mass.mass_kg = Estimate::new(
-            part.mass.mass_kg.value * ratio,
-            Provenance::rule("density_times_volume"),
-        );
-        for row in &mut part.mass.inertia_about_com_kg_m2 {
-            for value in row {
-                *value *= ratio;
-            }
-        }
+        part.replace_properties(properties.clone());
     }
     record.object.name = annotation.object.name.clone();
     record.object.category = annotation.object.category.clone();

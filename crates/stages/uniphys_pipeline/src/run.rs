@@ -19,7 +19,7 @@ use uniphys_geometry::{
 };
 use uniphys_ground::{
     ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part, object_kind,
-    object_properties, part_mass_model, sanitize,
+    object_properties, part_mass_model, sanitize, walls_matter,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{
@@ -133,7 +133,8 @@ pub(crate) struct Prepared {
     /// The solid the part's surface encloses (its voxels when it is open).
     pub(crate) mass: MassProperties,
     pub(crate) method: VolumeMethod,
-    /// The part's surface sampled with the gaps between its walls (`None` when it has no area).
+    /// The part's surface sampled with the gaps between its walls (`None` when it has no area or
+    /// its walls cannot matter, see `walls_matter`).
     pub(crate) walls: Option<WallSamples>,
 }
 
@@ -232,6 +233,7 @@ pub fn run(
         ));
     }
 
+    let interior_fill = kind.as_ref().map(|k| k.prior.interior_fill);
     let prepared = clock.stage(Stage::Prepare, || {
         // Joints refer to parts by index, so parts are never dropped here; ingest only
         // produces parts that have triangles.
@@ -254,7 +256,9 @@ pub fn run(
                 .map(|(mass, method)| Prepared {
                     mass,
                     method,
-                    walls: WallSamples::of_mesh(&part.mesh, WALL_SAMPLES, WALL_SEED),
+                    walls: walls_matter(method, interior_fill)
+                        .then(|| WallSamples::of_mesh(&part.mesh, WALL_SAMPLES, WALL_SEED))
+                        .flatten(),
                 })
                 .map_err(|source| PipelineError::Geometry {
                     part: part.name.clone(),
@@ -421,17 +425,11 @@ fn ground(
         let properties = ground_part(&material_names, &part.name, kind);
         let density = properties.density_kg_per_m3.value;
         let bounds = part.mesh.bounds();
-        let hull_bodies: Vec<(MassProperties, f64)> = colliders[i]
-            .iter()
-            .filter_map(MassProperties::from_closed_mesh)
-            .map(|hull| (hull, 1.0))
-            .collect();
-        let hulls = MassProperties::combined(&hull_bodies);
         let model = part_mass_model(&PartMassInput {
             solid: &prep.mass,
             solid_method: prep.method,
             walls: prep.walls.as_ref(),
-            hulls: hulls.as_ref(),
+            hulls: &colliders[i],
             material: properties.material.value.category,
             largest_side_m: bounds.extents().max_element(),
             interior_fill: kind.map(|k| k.prior.interior_fill),

@@ -8,6 +8,7 @@
 mod assets;
 mod bench_args;
 mod joint_tables;
+mod object_dirs;
 mod partnet;
 mod pose_run;
 mod tables;

@@ -9,6 +9,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+use crate::object_dirs::object_dirs;
+
 /// One object copied with its labels hidden.
 pub(crate) struct HiddenCopy {
     /// Folder name.
@@ -29,22 +31,12 @@ pub(crate) fn hidden_copies(
     wanted: &dyn Fn(&str) -> bool,
 ) -> anyhow::Result<Vec<HiddenCopy>> {
     let categories = read_categories(root);
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)
-        .with_context(|| format!("failed to list {}", root.display()))?
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.join("mobility.urdf").is_file())
-        .collect();
-    dirs.sort();
     let mut out = Vec::new();
-    for dir in dirs {
+    for dir in object_dirs(root, wanted)? {
         let name = dir
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        if !wanted(&name) {
-            continue;
-        }
         let copy = scratch.join(&name);
         std::fs::create_dir_all(&copy)
             .with_context(|| format!("failed to create {}", copy.display()))?;

@@ -12,9 +12,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
+#[path = "../object_dirs.rs"]
+mod object_dirs;
+
 use clap::Parser;
+use object_dirs::object_dirs;
 use uniphys_pipeline::{NoProgress, RunOptions, run};
-use uniphys_types::{CategoryPrior, CheckOutcome};
+use uniphys_types::CategoryPrior;
 
 /// Arguments of `assets-bench`.
 #[derive(Debug, Parser)]
@@ -40,7 +44,7 @@ struct Outcome {
     category: String,
     /// `0`, `1` or `refused`, as `uniphys run` would end.
     exit: String,
-    /// Failed checks (exit 1), the error (refused), or warnings of implausibility.
+    /// Failed checks (exit 1) or the error (refused).
     reasons: Vec<String>,
     largest_side_m: f64,
     mass_kg: f64,
@@ -58,19 +62,9 @@ fn main() -> ExitCode {
 }
 
 fn bench(args: &Args) -> anyhow::Result<()> {
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&args.data)
-        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", args.data.display()))?
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.join("mobility.urdf").is_file())
-        .filter(|p| {
-            args.only.is_empty() || {
-                let name = p.file_name().unwrap_or_default().to_string_lossy();
-                args.only.iter().any(|o| name.contains(o.as_str()))
-            }
-        })
-        .collect();
-    dirs.sort();
+    let dirs = object_dirs(&args.data, &|name| {
+        args.only.is_empty() || args.only.iter().any(|o| name.contains(o.as_str()))
+    })?;
     anyhow::ensure!(
         !dirs.is_empty(),
         "no folder with a mobility.urdf under {}",
@@ -128,15 +122,6 @@ fn run_one(dir: &Path, options: &RunOptions) -> Outcome {
                 .collect();
             outcome.exit = if failures.is_empty() { "0" } else { "1" }.to_owned();
             outcome.reasons = failures;
-            outcome.reasons.extend(
-                output
-                    .report
-                    .sections
-                    .iter()
-                    .flat_map(|s| &s.checks)
-                    .filter(|c| c.outcome == CheckOutcome::Warn && c.check == "plausibility")
-                    .map(|c| format!("warning: {}", c.message)),
-            );
             let object = &output.record.object;
             outcome.largest_side_m = object
                 .dimensions_m
@@ -177,12 +162,7 @@ fn print_outcomes(outcomes: &[Outcome]) {
             o.object,
             o.category,
             o.exit,
-            o.reasons
-                .iter()
-                .filter(|r| !r.starts_with("warning"))
-                .cloned()
-                .collect::<Vec<_>>()
-                .join("; ")
+            o.reasons.join("; ")
         );
     }
     let total: f64 = outcomes.iter().map(|o| o.secs).sum();

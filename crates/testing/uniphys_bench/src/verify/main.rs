@@ -12,7 +12,11 @@
 
 mod breakage;
 mod object;
+#[path = "../object_dirs.rs"]
+mod object_dirs;
 mod tables;
+
+use object_dirs::object_dirs;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -53,18 +57,9 @@ fn main() -> ExitCode {
 
 fn bench(args: &Args) -> anyhow::Result<()> {
     let start = Instant::now();
-    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&args.data)
-        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", args.data.display()))?
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.join("mobility.urdf").is_file())
-        .filter(|p| {
-            let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
-            args.only.is_empty()
-                || name.is_some_and(|n| args.only.iter().any(|o| n.contains(o.as_str())))
-        })
-        .collect();
-    dirs.sort();
+    let dirs = object_dirs(&args.data, &|name| {
+        args.only.is_empty() || args.only.iter().any(|o| name.contains(o.as_str()))
+    })?;
     anyhow::ensure!(!dirs.is_empty(), "no objects under {}", args.data.display());
     let mut results = Vec::new();
     for (i, dir) in dirs.iter().enumerate() {

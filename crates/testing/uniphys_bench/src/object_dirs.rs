@@ -1,0 +1,22 @@
+//! The object folders of a PartNet-Mobility set, shared by the benchmarks that read one.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+/// The sub-folders of `root` that hold a `mobility.urdf` and whose folder name `keep` accepts,
+/// sorted by path.
+pub(crate) fn object_dirs(
+    root: &Path,
+    keep: &dyn Fn(&str) -> bool,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(root)
+        .with_context(|| format!("failed to list {}", root.display()))?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.join("mobility.urdf").is_file())
+        .filter(|p| keep(&p.file_name().unwrap_or_default().to_string_lossy()))
+        .collect();
+    dirs.sort();
+    Ok(dirs)
+}
