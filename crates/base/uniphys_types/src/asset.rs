@@ -2,9 +2,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde::{Deserialize, Serialize};
 
-use crate::{
-    Estimate, Joint, ObjectProperties, PartId, PartProperties, Provenance, TypesError, TypesResult,
-};
+use crate::{Estimate, Joint, ObjectProperties, PartId, PartProperties, TypesError, TypesResult};
 
 /// Version of the [`AssetRecord`] schema. Bump it on any incompatible change.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -88,14 +86,12 @@ pub struct PartRecord {
 
 impl PartRecord {
     /// Replaces the part's properties with another grounder's. The part's volume and centre of
-    /// mass stay; its mass and inertia follow the new density.
+    /// mass stay, and so does the rule its mass came from; its mass and inertia follow the new
+    /// density.
     pub fn replace_properties(&mut self, properties: PartProperties) {
         let ratio = properties.density_kg_per_m3.value / self.properties.density_kg_per_m3.value;
         self.properties = properties;
-        self.mass.mass_kg = Estimate::new(
-            self.mass.mass_kg.value * ratio,
-            Provenance::rule("density_times_volume"),
-        );
+        self.mass.mass_kg.value *= ratio;
         for row in &mut self.mass.inertia_about_com_kg_m2 {
             for value in row {
                 *value *= ratio;

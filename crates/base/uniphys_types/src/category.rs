@@ -142,9 +142,9 @@ const fn row(
     }
 }
 
-/// The kinds of household objects, PartNet-Mobility's 46 and a few common others, checked in
+/// The kinds of household objects, PartNet-Mobility's 46 and ten common others, checked in
 /// this order (specific kinds before general ones). Figures: `docs/object-categories.md`.
-pub const CATEGORY_PRIORS: [CategoryPrior; 50] = [
+pub const CATEGORY_PRIORS: [CategoryPrior; 56] = [
     row(
         "Refrigerator",
         "KitchenDining/KitchenAppliance",
@@ -254,6 +254,24 @@ pub const CATEGORY_PRIORS: [CategoryPrior; 50] = [
         HOLLOW,
     ),
     row(
+        "Bowl",
+        "KitchenDining/TablewareDrinkware",
+        &["bowl"],
+        0.18,
+        0.4,
+        (Ceramics, "porcelain"),
+        HOLLOW,
+    ),
+    row(
+        "Plate",
+        "KitchenDining/TablewareDrinkware",
+        &["plate"],
+        0.27,
+        0.55,
+        (Ceramics, "porcelain"),
+        HOLLOW,
+    ),
+    row(
         "Dispenser",
         "PlumbingSanitary/BathroomAccessory",
         &["dispenser", "soap"],
@@ -278,6 +296,15 @@ pub const CATEGORY_PRIORS: [CategoryPrior; 50] = [
         0.7,
         40.0,
         (Ceramics, "porcelain"),
+        HOLLOW,
+    ),
+    row(
+        "Sink",
+        "PlumbingSanitary/PlumbingFixture",
+        &["sink", "basin"],
+        0.6,
+        12.0,
+        (Metal, "steel"),
         HOLLOW,
     ),
     row(
@@ -416,6 +443,15 @@ pub const CATEGORY_PRIORS: [CategoryPrior; 50] = [
         HOLLOW,
     ),
     row(
+        "Computer",
+        "ElectronicsDevices/ComputerPeripheral",
+        &["computer", "pc"],
+        0.45,
+        8.0,
+        (Metal, "steel"),
+        HOLLOW,
+    ),
+    row(
         "USB",
         "ElectronicsDevices/ComputerPeripheral",
         &["usb"],
@@ -443,11 +479,29 @@ pub const CATEGORY_PRIORS: [CategoryPrior; 50] = [
         PACKED,
     ),
     row(
+        "Tablet",
+        "ElectronicsDevices/ConsumerElectronics",
+        &["tablet", "ipad"],
+        0.25,
+        0.5,
+        (Plastic, "abs"),
+        PACKED,
+    ),
+    row(
         "Remote",
         "ElectronicsDevices/ControlInputDevice",
         &["remote"],
         0.18,
         0.12,
+        (Plastic, "abs"),
+        PACKED,
+    ),
+    row(
+        "Radio",
+        "ElectronicsDevices/ConsumerElectronics",
+        &["radio"],
+        0.25,
+        1.0,
         (Plastic, "abs"),
         PACKED,
     ),
@@ -644,6 +698,18 @@ mod tests {
         let (c, k) = CategoryPrior::in_words("My_Fridge-02").unwrap();
         assert_eq!((c.name, k), ("Refrigerator", "fridge"));
         assert!(CategoryPrior::in_words("kitchen-11622").is_none());
+        // Names the earlier keyword table knew keep a kind.
+        for (name, kind) in [
+            ("salad_bowl", "Bowl"),
+            ("kitchen_sink", "Sink"),
+            ("radio", "Radio"),
+        ] {
+            assert_eq!(
+                CategoryPrior::in_words(name).unwrap().0.name,
+                kind,
+                "{name}"
+            );
+        }
     }
 
     #[test]

@@ -155,7 +155,9 @@ pub(crate) fn guess_material(
     let names_body_panel = first_match(&toks, &BODY_PANEL_WORDS).is_some();
     for (category, keywords) in PART_NAME_HINTS.iter().chain(CATEGORY_KEYWORDS.iter()) {
         if names_body_panel && kind.is_some() && *category == MaterialCategory::Wood {
-            break;
+            // The panel words' own hint (wood) gives way to the kind; a material word in the
+            // name (`metal_drawer`) still counts.
+            continue;
         }
         if let Some(keyword) = first_match(&toks, keywords) {
             return (
@@ -251,5 +253,11 @@ mod tests {
         );
         let (m, _) = guess_material(&[], "wheel_2", fridge.as_ref());
         assert_eq!(m.category, MaterialCategory::Rubber);
+        // A material word in a panel's name wins over the body.
+        let (m, _) = guess_material(&[], "glass_door", fridge.as_ref());
+        assert_eq!(m.category, MaterialCategory::Glass);
+        let cabinet = crate::object_kind(Some("StorageFurniture"), "x", &[], &[]);
+        let (m, _) = guess_material(&[], "metal_drawer", cabinet.as_ref());
+        assert_eq!(m.category, MaterialCategory::Metal);
     }
 }
