@@ -1,6 +1,6 @@
 //! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
-//! second split, small-part merge.
+//! second split, small-part merge, the mesh's pieces made whole and small controls kept.
 
 use std::time::Instant;
 
@@ -10,6 +10,7 @@ use crate::apriori::{AprioriOptions, merge_parts};
 use crate::candidates::{CandidateGenerator, CandidateRequest};
 use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepTiming};
 use crate::perception::{PerceptionOptions, perceive};
+use crate::pieces::{PieceOptions, respect_pieces};
 use crate::prior::k_range;
 use crate::refine::split_disconnected;
 use crate::segment::Segmenter;
@@ -47,6 +48,8 @@ pub struct DecomposeOptions {
     pub apriori: AprioriOptions,
     /// The merge of small fragments.
     pub small_parts: SmallPartOptions,
+    /// Connected pieces made whole, small compact pieces kept as parts.
+    pub pieces: PieceOptions,
     /// Seed for anything random (default 0).
     pub seed: u64,
 }
@@ -64,6 +67,7 @@ impl Default for DecomposeOptions {
             component_area_fraction: 0.01,
             apriori: AprioriOptions::default(),
             small_parts: SmallPartOptions::default(),
+            pieces: PieceOptions::default(),
             seed: 0,
         }
     }
@@ -223,9 +227,25 @@ pub fn decompose(
     );
     lap("refine_again", &mut timings);
 
-    let (face_part, part_count, small_parts_merged) =
+    let (small_merged, _, small_parts_merged) =
         merge_small_parts(mesh, &again, &materials, &options.small_parts);
     lap("small_parts", &mut timings);
+
+    let piece_options = PieceOptions {
+        make_whole: options.pieces.make_whole && !generator.learned(),
+        ..options.pieces.clone()
+    };
+    let (face_part, part_count, pieces) = respect_pieces(mesh, &small_merged, &piece_options);
+    lap("pieces", &mut timings);
+    let one_part_reason = (part_count == 1).then(|| {
+        one_part_reason(
+            pieces.pieces,
+            selection.k,
+            merged.part_count,
+            refined_again_parts,
+            piece_options.make_whole,
+        )
+    });
 
     let summary = DecomposeSummary {
         faces,
@@ -248,6 +268,10 @@ pub fn decompose(
         merged_parts: merged.part_count,
         refined_again_parts,
         small_parts_merged,
+        pieces: pieces.pieces,
+        pieces_made_whole: pieces.pieces_made_whole,
+        controls_kept: pieces.controls_kept,
+        one_part_reason,
         final_parts: part_count,
         merge_strategy: merged.strategy,
         segmenter: perception.provider,
@@ -260,6 +284,35 @@ pub fn decompose(
         part_count,
         summary,
     })
+}
+
+/// Why the stage found one part, from the part counts after each step.
+fn one_part_reason(
+    pieces: usize,
+    matched_k: usize,
+    merged: usize,
+    refined_again: usize,
+    make_whole: bool,
+) -> String {
+    if pieces == 1 && make_whole {
+        return "the mesh is one connected piece, and cuts inside a piece from geometric \
+                clustering are not kept (no seam separates its parts)"
+            .to_owned();
+    }
+    if matched_k == 1 {
+        return "the views' masks matched the one-part candidate best".to_owned();
+    }
+    if merged == 1 {
+        return format!(
+            "the views showed the {matched_k} candidate parts together, so the merge joined them"
+        );
+    }
+    if refined_again > 1 {
+        return format!(
+            "the {refined_again} parts left were small fragments of one part and were merged into it"
+        );
+    }
+    format!("the {pieces} connected pieces were all assigned to one part")
 }
 
 /// Decomposes the merged mesh of `asset` (colours and materials from its materials, textures

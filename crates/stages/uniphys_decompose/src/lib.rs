@@ -13,7 +13,8 @@
 //!   [`providers`] picks the segmenter and generator from the service settings;
 //! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
-//!   split, small fragments merged; all thresholds relative to the object size;
+//!   split, small fragments merged; all thresholds relative to the object size; [`pieces`]: the
+//!   mesh's connected pieces made whole, small compact pieces (knobs, buttons) kept as parts;
 //! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
@@ -28,6 +29,7 @@ pub mod hungarian;
 pub mod lift;
 pub mod output;
 pub mod perception;
+pub mod pieces;
 pub mod policy;
 pub mod prior;
 pub mod providers;
@@ -47,10 +49,11 @@ pub use error::{DecomposeError, DecomposeResult};
 pub use lift::FaceSet;
 pub use output::{DecomposeSummary, Decomposition};
 pub use perception::{Perception, PerceptionOptions, perceive};
+pub use pieces::{PieceOptions, PieceReport, mesh_pieces, respect_pieces};
 pub use policy::{DecomposeMode, FRAGMENTED_PART_COUNT, needs_decomposition};
 pub use prior::k_range;
 pub use providers::{generator_for, segmenter_for};
-pub use score::{PartScore, score_parts};
+pub use score::{PartMatching, PartScore, match_parts, score_parts};
 pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
 pub use split::split_asset;
 pub use views::{ViewOptions, ViewSet, face_colours, render_views};

@@ -25,7 +25,7 @@ pub struct CandidateLoss {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepTiming {
     /// Step name: "perceive", "candidates", "select", "refine", "merge", "refine_again",
-    /// "small_parts".
+    /// "small_parts", "pieces".
     pub step: String,
     /// Seconds.
     pub secs: f64,
@@ -67,6 +67,16 @@ pub struct DecomposeSummary {
     pub refined_again_parts: usize,
     /// Small parts merged into a neighbour.
     pub small_parts_merged: usize,
+    /// Connected pieces of the mesh (vertices welded by position).
+    pub pieces: usize,
+    /// Pieces the steps before had cut between parts, made whole again.
+    pub pieces_made_whole: usize,
+    /// Small compact pieces (knobs, buttons) split off the larger part they had been merged into.
+    pub controls_kept: usize,
+    /// When the stage found a single part, why (which step joined everything, or that the mesh
+    /// is one piece).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub one_part_reason: Option<String>,
     /// Final part count (`final_parts`).
     pub final_parts: usize,
     /// How the merge was done (`merge_strategy`).

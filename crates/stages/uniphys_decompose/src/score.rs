@@ -24,6 +24,43 @@ pub fn score_parts(
     truth: &[u32],
     face_area_m2: &[f64],
 ) -> DecomposeResult<PartScore> {
+    let matched = match_parts(found, truth, face_area_m2)?;
+    let total: f64 = matched.true_area_m2.iter().sum();
+    let weighted: f64 = matched
+        .true_area_m2
+        .iter()
+        .zip(&matched.iou)
+        .map(|(a, iou)| a * iou)
+        .sum();
+    let t = matched.iou.len();
+    Ok(PartScore {
+        true_parts: t,
+        found_parts: matched.found_parts,
+        count_error: t.abs_diff(matched.found_parts),
+        area_iou: if total > 0.0 { weighted / total } else { 0.0 },
+    })
+}
+
+/// The one-to-one matching of found parts to true parts that [`score_parts`] scores.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartMatching {
+    /// Number of found parts.
+    pub found_parts: usize,
+    /// Per true part, the found part matched to it (none when there are fewer found parts).
+    pub found_of_true: Vec<Option<usize>>,
+    /// Per true part, its IoU with the matched found part (0 when unmatched).
+    pub iou: Vec<f64>,
+    /// Per true part, its area.
+    pub true_area_m2: Vec<f64>,
+}
+
+/// Matches found parts to true parts one-to-one (Hungarian, maximising the summed IoU by face
+/// area).
+pub fn match_parts(
+    found: &[u32],
+    truth: &[u32],
+    face_area_m2: &[f64],
+) -> DecomposeResult<PartMatching> {
     if found.len() != truth.len() || found.len() != face_area_m2.len() {
         return Err(DecomposeError::InvalidInput(format!(
             "{} found labels, {} true labels, {} face areas",
@@ -50,17 +87,15 @@ pub fn score_parts(
     };
     let cost: Vec<f64> = (0..t * k).map(|c| 1.0 - iou(c / k, c % k)).collect();
     let assignment = min_cost_assignment(&cost, t, k)?;
-    let total: f64 = true_area.iter().sum();
-    let weighted: f64 = assignment
-        .iter()
-        .enumerate()
-        .filter_map(|(i, j)| j.map(|j| true_area[i] * iou(i, j)))
-        .sum();
-    Ok(PartScore {
-        true_parts: t,
+    Ok(PartMatching {
         found_parts: k,
-        count_error: t.abs_diff(k),
-        area_iou: if total > 0.0 { weighted / total } else { 0.0 },
+        iou: assignment
+            .iter()
+            .enumerate()
+            .map(|(i, j)| j.map_or(0.0, |j| iou(i, j)))
+            .collect(),
+        found_of_true: assignment,
+        true_area_m2: true_area,
     })
 }
 

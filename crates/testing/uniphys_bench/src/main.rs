@@ -7,6 +7,7 @@
 
 mod assets;
 mod bench_args;
+mod categories;
 mod joint_tables;
 mod object_dirs;
 mod partnet;

@@ -4,11 +4,11 @@
 //! and links called `link_0`, `link_1`, ... The original URDF is the ground truth; the category
 //! (from the folder's `INDEX.tsv`) is read for the tables only.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+use crate::categories::read_categories;
 use crate::object_dirs::object_dirs;
 
 /// One object copied with its labels hidden.
@@ -82,28 +82,6 @@ fn link_tree(from: &Path, to: &Path) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// Folder name -> category from `INDEX.tsv` (its `dir` and `category` columns).
-fn read_categories(root: &Path) -> BTreeMap<String, String> {
-    let Ok(text) = std::fs::read_to_string(root.join("INDEX.tsv")) else {
-        return BTreeMap::new();
-    };
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split('\t').collect();
-    let column = |name: &str| header.iter().position(|h| *h == name);
-    let (Some(dir), Some(category)) = (column("dir"), column("category")) else {
-        return BTreeMap::new();
-    };
-    lines
-        .filter_map(|line| {
-            let cells: Vec<&str> = line.split('\t').collect();
-            Some((
-                (*cells.get(dir)?).to_owned(),
-                (*cells.get(category)?).to_owned(),
-            ))
-        })
-        .collect()
 }
 
 /// The URDF text with the `name="..."` attribute removed from every `<visual ...>` and

@@ -51,6 +51,12 @@ pub trait CandidateGenerator: Send + Sync {
     fn provider(&self) -> String;
     /// One candidate per reachable K of the request, ascending K.
     fn candidates(&self, request: &CandidateRequest<'_>) -> DecomposeResult<Vec<Candidate>>;
+    /// Whether the candidates come from learned per-face features, whose cuts inside one
+    /// connected piece of the mesh are evidence (a welded door); geometric clustering's cuts
+    /// inside a piece follow creases and are not, so the stage makes those pieces whole.
+    fn learned(&self) -> bool {
+        false
+    }
 }
 
 /// Labels renumbered `0..k` in the order of first appearance (so by each group's smallest face);

@@ -29,6 +29,10 @@ impl PartFieldGenerator {
 }
 
 impl CandidateGenerator for PartFieldGenerator {
+    fn learned(&self) -> bool {
+        true
+    }
+
     /// `"partfield:<model>"` with the model the service named (`"partfield:unknown"` before
     /// the first answer).
     fn provider(&self) -> String {

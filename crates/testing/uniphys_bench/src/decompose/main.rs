@@ -2,7 +2,8 @@
 //! URDFs with two or more parts) merged into one mesh, decomposed by the built-in providers, and
 //! scored against their known parts (part-count error, face-area-weighted IoU after Hungarian
 //! matching), with the time per asset; then the stage on a ~100k-triangle asset with 8 views at
-//! 512 x 512 on one thread, total and per step.
+//! 512 x 512 on one thread, total and per step. With `--partnet`, real objects instead: see
+//! [`real`].
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -16,6 +17,13 @@ use uniphys_decompose::{
 };
 use uniphys_geometry::{DVec3, MeshAsset, MeshPart, TriMesh};
 use uniphys_mesh_io::{IngestOptions, load_asset};
+
+#[path = "../categories.rs"]
+mod categories;
+#[path = "../object_dirs.rs"]
+mod object_dirs;
+mod partnet;
+mod real;
 
 /// Decompose multi-part assets merged into one mesh and score the parts found.
 #[derive(Debug, Parser)]
@@ -39,6 +47,9 @@ struct Args {
     /// Only assets whose name contains this text.
     #[arg(long)]
     only: Option<String>,
+    /// A PartNet-Mobility folder: decompose its real objects instead of the examples and URDFs.
+    #[arg(long)]
+    partnet: Option<PathBuf>,
     /// Triangles of the performance asset (a subdivided example cabinet); 0 skips it.
     #[arg(long, default_value_t = 100_000)]
     perf_triangles: usize,
@@ -65,18 +76,27 @@ struct Case {
 
 fn bench(args: &Args) -> anyhow::Result<()> {
     let start = Instant::now();
+    if let Some(root) = &args.partnet {
+        let wanted = |name: &str| args.only.as_deref().is_none_or(|o| name.contains(o));
+        let (cases, failed) = partnet::real_cases(root, &wanted)?;
+        let options = options_for(args);
+        real::bench_real(&cases, &|case| {
+            Ok(decompose_asset(
+                &case.asset,
+                &BuiltinSegmenter::default(),
+                &GeometricGenerator::default(),
+                &options,
+            )?
+            .1)
+        })?;
+        for (name, reason) in &failed {
+            println!("- FAILED to load {name}: {reason}");
+        }
+        println!("\ntotal wall time {:.1} s", start.elapsed().as_secs_f64());
+        return Ok(());
+    }
     let (cases, skipped) = collect(args)?;
-    let options = DecomposeOptions {
-        perception: PerceptionOptions {
-            views: ViewOptions {
-                count: args.views,
-                resolution_px: args.resolution_px,
-            },
-            threads: 1,
-            ..PerceptionOptions::default()
-        },
-        ..DecomposeOptions::default()
-    };
+    let options = options_for(args);
     println!(
         "# Decomposition benchmark: assets merged into one mesh, built-in segmenter and generator, {} views at {} px\n",
         args.views, args.resolution_px
@@ -144,6 +164,21 @@ fn bench(args: &Args) -> anyhow::Result<()> {
     }
     println!("\ntotal wall time {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// The stage's options with the views of `args`, one thread.
+fn options_for(args: &Args) -> DecomposeOptions {
+    DecomposeOptions {
+        perception: PerceptionOptions {
+            views: ViewOptions {
+                count: args.views,
+                resolution_px: args.resolution_px,
+            },
+            threads: 1,
+            ..PerceptionOptions::default()
+        },
+        ..DecomposeOptions::default()
+    }
 }
 
 /// The asset as one part (faces in part order) and the true part of every face.

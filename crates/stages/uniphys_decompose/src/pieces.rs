@@ -1,0 +1,257 @@
+//! The mesh's own pieces as evidence: a connected piece (vertices welded by position) was modelled
+//! as one thing, so a decomposition should not cut it, and a small compact piece sitting on a
+//! much larger part (a knob, a button, a dial) is a part of its own.
+//!
+//! Why: real meshes are assembled from pieces. A panel, a knob or a handle is one piece; a rigid
+//! body is several. Clustering by views and creases cuts a body's panels apart along their
+//! creases and lets small controls vanish into the panel they sit on; one welded piece is almost
+//! never two parts (measured on the shared PartNet-Mobility objects: `decompose-bench --partnet`).
+//! Welded seams between a door and its frame are the exception; they stay with whichever side
+//! holds more of the piece. Pieces repeated many times over (the keys of a keyboard, the holes of
+//! a grille, screws) are surface detail, not controls: an appliance has a handful of controls.
+
+use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
+
+use crate::candidates::{UnionFind, relabel_by_first_face, welded_vertex_ids};
+
+/// Tuning of [`respect_pieces`]. Areas are shares of the total surface area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PieceOptions {
+    /// Make every cut piece whole. Default true; the stage turns it off for learned candidates
+    /// ([`crate::CandidateGenerator::learned`]).
+    pub make_whole: bool,
+    /// A piece below this share of the area is small enough to be a control. Default 0.005.
+    pub control_area_fraction_max: f64,
+    /// ... and above this share it is not dust. Default 1e-5.
+    pub control_area_fraction_min: f64,
+    /// ... compact: its second principal extent is at least this share of its first (a bar
+    /// handle is not a control). Default 0.5.
+    pub control_compactness_min: f64,
+    /// ... and the part it was merged into holds at least this many times its area. Default 2.
+    pub control_host_ratio: f64,
+    /// ... unless more than this many pieces of the same shape are candidates (a keyboard's keys,
+    /// a grille). Default 16.
+    pub control_copies_max: usize,
+}
+
+impl Default for PieceOptions {
+    fn default() -> Self {
+        Self {
+            make_whole: true,
+            control_area_fraction_max: 0.005,
+            control_area_fraction_min: 1e-5,
+            control_compactness_min: 0.5,
+            control_host_ratio: 2.0,
+            control_copies_max: 16,
+        }
+    }
+}
+
+/// What [`respect_pieces`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PieceReport {
+    /// Connected pieces of the mesh.
+    pub pieces: usize,
+    /// Pieces that were cut between parts and made whole again.
+    pub pieces_made_whole: usize,
+    /// Small compact pieces split off the part they had been merged into.
+    pub controls_kept: usize,
+}
+
+/// Connected pieces of `mesh`: the piece of every face (numbered by smallest face) and the count.
+#[must_use]
+pub fn mesh_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
+    let welded = welded_vertex_ids(mesh);
+    let mut uf = UnionFind::new(mesh.positions.len());
+    for triangle in &mesh.triangles {
+        let [a, b, c] = triangle.map(|v| welded[v as usize]);
+        uf.union(a, b);
+        uf.union(a, c);
+    }
+    let roots: Vec<u32> = mesh
+        .triangles
+        .iter()
+        .map(|t| uf.find(welded[t[0] as usize]))
+        .collect();
+    relabel_by_first_face(&roots)
+}
+
+/// Makes every connected piece whole (it joins the part holding most of its area) and splits
+/// small compact pieces off the larger parts they were merged into. Returns the new labels
+/// (numbered by smallest face), their count and what was done.
+#[must_use]
+pub fn respect_pieces(
+    mesh: &TriMesh,
+    face_part: &[u32],
+    options: &PieceOptions,
+) -> (Vec<u32>, usize, PieceReport) {
+    let (piece, pieces) = mesh_pieces(mesh);
+    let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
+    let face_area_m2: Vec<f64> = (0..mesh.triangle_count())
+        .map(|f| mesh.face_area(f))
+        .collect();
+    let total_m2: f64 = face_area_m2.iter().sum();
+    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); pieces];
+    for (f, &p) in piece.iter().enumerate() {
+        faces_of[p as usize].push(f);
+    }
+    let mut report = PieceReport {
+        pieces,
+        ..PieceReport::default()
+    };
+    let mut labels = face_part.to_vec();
+    let mut share = vec![0.0f64; parts];
+    for faces in &faces_of {
+        share.iter_mut().for_each(|s| *s = 0.0);
+        for &f in faces {
+            share[face_part[f] as usize] += face_area_m2[f];
+        }
+        let owner = majority(&share);
+        if options.make_whole && faces.iter().any(|&f| face_part[f] != owner) {
+            report.pieces_made_whole += 1;
+            for &f in faces {
+                labels[f] = owner;
+            }
+        }
+    }
+    let mut part_area_m2 = vec![0.0f64; parts];
+    for (f, &p) in labels.iter().enumerate() {
+        part_area_m2[p as usize] += face_area_m2[f];
+    }
+    // Candidates: small compact pieces inside a much larger part, with their shape.
+    let mut candidates: Vec<(usize, Shape)> = Vec::new();
+    for (i, faces) in faces_of.iter().enumerate() {
+        let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
+        let host = labels[faces[0]] as usize;
+        let small = area_m2 < options.control_area_fraction_max * total_m2
+            && area_m2 > options.control_area_fraction_min * total_m2;
+        if !small || part_area_m2[host] < options.control_host_ratio * area_m2 {
+            continue;
+        }
+        let shape = Shape::of(mesh, faces);
+        if shape.compactness() >= options.control_compactness_min {
+            candidates.push((i, shape));
+        }
+    }
+    let mut next = u32::try_from(parts).unwrap_or(u32::MAX);
+    for (i, shape) in &candidates {
+        let copies = candidates
+            .iter()
+            .filter(|(_, other)| other.same_as(shape))
+            .count();
+        if copies > options.control_copies_max {
+            continue;
+        }
+        let faces = &faces_of[*i];
+        for &f in faces {
+            labels[f] = next;
+        }
+        next += 1;
+        report.controls_kept += 1;
+    }
+    let (labels, count) = relabel_by_first_face(&labels);
+    (labels, count, report)
+}
+
+/// Index of the largest value (the first on ties).
+fn majority(values: &[f64]) -> u32 {
+    let mut best = 0;
+    for (i, &v) in values.iter().enumerate() {
+        if v > values[best] {
+            best = i;
+        }
+    }
+    u32::try_from(best).unwrap_or(u32::MAX)
+}
+
+/// A piece's shape for telling copies apart: its face count and principal extents.
+struct Shape {
+    faces: usize,
+    extents_m: [f64; 3],
+}
+
+impl Shape {
+    fn of(mesh: &TriMesh, faces: &[usize]) -> Self {
+        let points: Vec<DVec3> = faces
+            .iter()
+            .flat_map(|&f| mesh.triangles[f])
+            .map(|v| mesh.positions[v as usize])
+            .collect();
+        let extents_m = principal_axes(&points).map(|d| {
+            let (lo, hi) = projection_range(&points, d);
+            hi - lo
+        });
+        Self {
+            faces: faces.len(),
+            extents_m,
+        }
+    }
+
+    /// The second principal extent over the first (1 for a disc or a ball, near 0 for a bar).
+    fn compactness(&self) -> f64 {
+        if self.extents_m[0] > 0.0 {
+            self.extents_m[1] / self.extents_m[0]
+        } else {
+            0.0
+        }
+    }
+
+    /// The same face count and extents within 2 % of the largest.
+    fn same_as(&self, other: &Self) -> bool {
+        let tolerance_m = 0.02 * self.extents_m[0].max(other.extents_m[0]);
+        self.faces == other.faces
+            && self
+                .extents_m
+                .iter()
+                .zip(&other.extents_m)
+                .all(|(a, b)| (a - b).abs() <= tolerance_m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use uniphys_geometry::TriMesh;
+
+    use super::*;
+
+    fn boxes(boxes: &[(DVec3, DVec3)]) -> TriMesh {
+        let meshes: Vec<TriMesh> = boxes
+            .iter()
+            .map(|&(lo, hi)| TriMesh::cuboid(lo, hi))
+            .collect();
+        TriMesh::merge(&meshes)
+    }
+
+    #[test]
+    fn a_cut_piece_is_made_whole_and_a_knob_on_a_panel_is_kept() {
+        // A panel (one piece, 12 faces) and a knob on it (one piece).
+        let mesh = boxes(&[
+            (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.05)),
+            (DVec3::new(0.46, 0.46, 0.05), DVec3::new(0.5, 0.5, 0.08)),
+        ]);
+        // The clustering cut a thin edge face off the panel (part 0) and merged the knob into
+        // the rest (part 1).
+        let edge = (0..12)
+            .min_by(|&a, &b| mesh.face_area(a).total_cmp(&mesh.face_area(b)))
+            .unwrap();
+        let mut face_part = vec![1u32; 24];
+        face_part[edge] = 0;
+        let (labels, count, report) = respect_pieces(&mesh, &face_part, &PieceOptions::default());
+        assert_eq!(count, 2, "{labels:?}");
+        assert_eq!(report.pieces, 2);
+        assert_eq!(report.pieces_made_whole, 1);
+        assert_eq!(report.controls_kept, 1);
+        assert!(labels[..12].iter().all(|&l| l == labels[0]));
+        assert!(labels[12..].iter().all(|&l| l != labels[0]));
+    }
+
+    #[test]
+    fn a_bar_handle_stays_with_its_door() {
+        let mesh = boxes(&[
+            (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.05)),
+            (DVec3::new(0.1, 0.45, 0.05), DVec3::new(0.3, 0.46, 0.06)),
+        ]);
+        let (_, count, report) = respect_pieces(&mesh, &[0u32; 24], &PieceOptions::default());
+        assert_eq!((count, report.controls_kept), (1, 0));
+    }
+}

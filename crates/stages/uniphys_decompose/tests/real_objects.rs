@@ -1,0 +1,108 @@
+//! The stage on real objects of the shared PartNet-Mobility set (`../shared/data/partnet-mobility/`
+//! beside the repository), merged into one mesh with no names, colours or materials, as
+//! `decompose-bench --partnet` does: small controls are not merged away and a connected piece of
+//! the mesh is never cut.
+
+use uniphys_decompose::{
+    BuiltinSegmenter, DecomposeOptions, Decomposition, GeometricGenerator, decompose_asset,
+    match_parts, mesh_pieces,
+};
+use uniphys_examples::shared_partnet_object;
+use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
+use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_types::JointKind;
+
+/// The object as one bare mesh, the true part (link) of every face, each part's joint kind, and
+/// the stage's decomposition.
+fn decomposed(name: &str) -> (TriMesh, Vec<u32>, Vec<Option<JointKind>>, Decomposition) {
+    let asset = load_asset(&shared_partnet_object(name), &IngestOptions::default())
+        .expect("ingest")
+        .asset;
+    let mut truth = Vec::new();
+    for (i, part) in asset.parts.iter().enumerate() {
+        truth.extend(std::iter::repeat_n(
+            u32::try_from(i).expect("part index"),
+            part.mesh.triangle_count(),
+        ));
+    }
+    let mut motion = vec![None; asset.parts.len()];
+    for joint in &asset.joints {
+        motion[joint.child.0 as usize] = Some(joint.kind);
+    }
+    let merged = asset.merged();
+    let bare = TriMesh::new(merged.positions, merged.triangles).expect("mesh");
+    let single = MeshAsset {
+        parts: vec![MeshPart {
+            name: "object".into(),
+            mesh: bare.clone(),
+        }],
+        materials: Vec::new(),
+        textures: Vec::new(),
+        joints: Vec::new(),
+    };
+    let (_, decomposition) = decompose_asset(
+        &single,
+        &BuiltinSegmenter::default(),
+        &GeometricGenerator::default(),
+        &DecomposeOptions::default(),
+    )
+    .expect("decompose");
+    (bare, truth, motion, decomposition)
+}
+
+#[test]
+fn the_knobs_of_an_oven_are_parts_of_their_own() {
+    // Eight knobs (continuous joints) on the control panel of an oven with a drawer. Before the
+    // mesh's pieces were used, all eight vanished into the body.
+    let (mesh, truth, motion, decomposition) = decomposed("kitchen-101921");
+    let areas: Vec<f64> = (0..mesh.triangle_count())
+        .map(|f| mesh.face_area(f))
+        .collect();
+    let matching = match_parts(&decomposition.face_part, &truth, &areas).expect("match");
+    let knobs: Vec<f64> = motion
+        .iter()
+        .zip(&matching.iou)
+        .filter(|(kind, _)| **kind == Some(JointKind::Continuous))
+        .map(|(_, &iou)| iou)
+        .collect();
+    assert_eq!(knobs.len(), 8);
+    assert!(
+        knobs.iter().all(|&iou| iou >= 0.5),
+        "knob IoUs {knobs:?}; summary {:?}",
+        decomposition.summary
+    );
+    assert!(decomposition.summary.controls_kept >= 8);
+}
+
+#[test]
+fn no_connected_piece_of_a_table_with_a_drawer_is_cut() {
+    // The table's legs, top and apron and the drawer's boards are separate pieces; clustering
+    // by creases cut some of them between parts.
+    let (mesh, _, _, decomposition) = decomposed("gensim2-26670");
+    let (piece, pieces) = mesh_pieces(&mesh);
+    assert!(pieces > 2);
+    let mut part_of_piece = vec![None; pieces];
+    for (f, &p) in piece.iter().enumerate() {
+        let part = decomposition.face_part[f];
+        let seen = part_of_piece[p as usize].get_or_insert(part);
+        assert_eq!(
+            *seen, part,
+            "piece {p} is cut between parts {seen} and {part}"
+        );
+    }
+    assert!(decomposition.part_count >= 2);
+}
+
+#[test]
+fn a_mesh_that_is_one_piece_says_why_it_is_one_part() {
+    // A microwave modelled as one welded surface: its door cannot be told from its body by
+    // connectivity, and the summary says why it is one part instead of returning it silently.
+    let (_, _, _, decomposition) = decomposed("kitchen-7236");
+    assert_eq!(decomposition.summary.pieces, 1);
+    assert_eq!(decomposition.part_count, 1);
+    let reason = decomposition.summary.one_part_reason.as_deref();
+    assert!(
+        reason.is_some_and(|r| r.contains("one connected piece")),
+        "{reason:?}"
+    );
+}
