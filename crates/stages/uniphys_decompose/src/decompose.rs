@@ -92,6 +92,24 @@ impl DecomposeOptions {
                 1.0,
             ),
             ("apriori.coverage_min", self.apriori.coverage_min, 0.0, 1.0),
+            (
+                "pieces.control_area_fraction_max",
+                self.pieces.control_area_fraction_max,
+                0.0,
+                1.0,
+            ),
+            (
+                "pieces.control_area_fraction_min",
+                self.pieces.control_area_fraction_min,
+                0.0,
+                1.0,
+            ),
+            (
+                "pieces.control_compactness_min",
+                self.pieces.control_compactness_min,
+                0.0,
+                1.0,
+            ),
         ];
         for (name, value, low, high) in fractions {
             if !(value.is_finite() && value >= low && value <= high) {
