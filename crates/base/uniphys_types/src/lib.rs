@@ -7,6 +7,7 @@
 
 mod asset;
 mod category;
+mod category_table;
 mod error;
 mod ids;
 mod joint;
