@@ -25,19 +25,12 @@ pub fn score_parts(
     face_area_m2: &[f64],
 ) -> DecomposeResult<PartScore> {
     let matched = match_parts(found, truth, face_area_m2)?;
-    let total: f64 = matched.true_area_m2.iter().sum();
-    let weighted: f64 = matched
-        .true_area_m2
-        .iter()
-        .zip(&matched.iou)
-        .map(|(a, iou)| a * iou)
-        .sum();
     let t = matched.iou.len();
     Ok(PartScore {
         true_parts: t,
         found_parts: matched.found_parts,
         count_error: t.abs_diff(matched.found_parts),
-        area_iou: if total > 0.0 { weighted / total } else { 0.0 },
+        area_iou: matched.area_iou(),
     })
 }
 
@@ -52,6 +45,21 @@ pub struct PartMatching {
     pub iou: Vec<f64>,
     /// Per true part, its area.
     pub true_area_m2: Vec<f64>,
+}
+
+impl PartMatching {
+    /// Sum over true parts of `area * IoU` over their total area: [`PartScore::area_iou`].
+    #[must_use]
+    pub fn area_iou(&self) -> f64 {
+        let total: f64 = self.true_area_m2.iter().sum();
+        let weighted: f64 = self
+            .true_area_m2
+            .iter()
+            .zip(&self.iou)
+            .map(|(a, iou)| a * iou)
+            .sum();
+        if total > 0.0 { weighted / total } else { 0.0 }
+    }
 }
 
 /// Matches found parts to true parts one-to-one (Hungarian, maximising the summed IoU by face

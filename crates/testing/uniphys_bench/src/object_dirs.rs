@@ -15,8 +15,15 @@ pub(crate) fn object_dirs(
         .filter_map(Result::ok)
         .map(|e| e.path())
         .filter(|p| p.join("mobility.urdf").is_file())
-        .filter(|p| keep(&p.file_name().unwrap_or_default().to_string_lossy()))
+        .filter(|p| keep(&folder_name(p)))
         .collect();
     dirs.sort();
     Ok(dirs)
+}
+
+/// The last component of `dir` (an object's folder name), empty if it has none.
+pub(crate) fn folder_name(dir: &Path) -> String {
+    dir.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::categories::read_categories;
-use crate::object_dirs::object_dirs;
+use crate::object_dirs::{folder_name, object_dirs};
 
 /// One object copied with its labels hidden.
 pub(crate) struct HiddenCopy {
@@ -33,10 +33,7 @@ pub(crate) fn hidden_copies(
     let categories = read_categories(root);
     let mut out = Vec::new();
     for dir in object_dirs(root, wanted)? {
-        let name = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = folder_name(&dir);
         let copy = scratch.join(&name);
         std::fs::create_dir_all(&copy)
             .with_context(|| format!("failed to create {}", copy.display()))?;

@@ -16,7 +16,7 @@ use std::time::Instant;
 mod object_dirs;
 
 use clap::Parser;
-use object_dirs::object_dirs;
+use object_dirs::{folder_name, object_dirs};
 use uniphys_pipeline::{NoProgress, RunOptions, run};
 use uniphys_types::CategoryPrior;
 
@@ -91,11 +91,7 @@ fn bench(args: &Args) -> anyhow::Result<()> {
 }
 
 fn run_one(dir: &Path, options: &RunOptions) -> Outcome {
-    let object = dir
-        .file_name()
-        .unwrap_or_default()
-        .to_string_lossy()
-        .into_owned();
+    let object = folder_name(dir);
     let category = meta_category(dir).unwrap_or_else(|| "unknown".to_owned());
     let start = Instant::now();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

@@ -14,7 +14,7 @@ use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::JointKind;
 
 use crate::categories::read_categories;
-use crate::object_dirs::object_dirs;
+use crate::object_dirs::{folder_name, object_dirs};
 
 /// One real object, merged, with its true parts.
 pub(crate) struct RealCase {
@@ -49,10 +49,7 @@ pub(crate) fn real_cases(
     let mut cases = Vec::new();
     let mut failed = Vec::new();
     for dir in object_dirs(root, wanted)? {
-        let name = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = folder_name(&dir);
         let urdf = dir.join("mobility.urdf");
         match load_asset(&urdf, &options).with_context(|| format!("{}", urdf.display())) {
             Ok(loaded) => {

@@ -103,7 +103,7 @@ fn score_case(case: &RealCase, found: &[u32], secs: f64) -> anyhow::Result<Row> 
     let scored = |labels: &[u32]| -> anyhow::Result<Scored> {
         let matching = match_parts(labels, &case.truth, &areas)?;
         Ok(Scored {
-            area_iou: area_weighted(&matching),
+            area_iou: matching.area_iou(),
             found_parts: matching.found_parts,
             matching,
         })
@@ -122,17 +122,6 @@ fn score_case(case: &RealCase, found: &[u32], secs: f64) -> anyhow::Result<Row> 
         secs,
         diagnosis: diagnose(case, found, &areas),
     })
-}
-
-fn area_weighted(matching: &PartMatching) -> f64 {
-    let total: f64 = matching.true_area_m2.iter().sum();
-    let weighted: f64 = matching
-        .true_area_m2
-        .iter()
-        .zip(&matching.iou)
-        .map(|(a, i)| a * i)
-        .sum();
-    if total > 0.0 { weighted / total } else { 0.0 }
 }
 
 /// Each connected piece of the mesh (vertices welded by position) as a part.

@@ -16,7 +16,7 @@ mod object;
 mod object_dirs;
 mod tables;
 
-use object_dirs::object_dirs;
+use object_dirs::{folder_name, object_dirs};
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -63,9 +63,7 @@ fn bench(args: &Args) -> anyhow::Result<()> {
     anyhow::ensure!(!dirs.is_empty(), "no objects under {}", args.data.display());
     let mut results = Vec::new();
     for (i, dir) in dirs.iter().enumerate() {
-        let name = dir
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let name = folder_name(dir);
         eprint!("[{}/{}] {name} ... ", i + 1, dirs.len());
         let result = object::judge_object(dir, !args.no_breakage);
         match &result {
