@@ -25,7 +25,6 @@
 mod articulate;
 mod dynamics;
 mod error;
-mod handle;
 mod hinge_range;
 mod hypotheses;
 mod intrinsic;

@@ -35,7 +35,6 @@ use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
 use crate::articulate::builtin_joint;
-use crate::handle::panel_handle;
 use crate::hinge_range::hinge_range;
 use crate::hypotheses::{extent_along, mean};
 use crate::small_part::small_part_motion;
@@ -66,9 +65,9 @@ const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
 /// longest extent (a drawer's depth, not a door's thickness).
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
 /// A part whose thinnest box extent is under this fraction of the middle one is a slab: it has
-/// an outer face that can carry a handle ([`panel_handle`]), and it does not slide along its
-/// thinnest axis (a thick door is not a drawer) ...
-pub(crate) const SLAB_RATIO: f64 = 0.5;
+/// an outer face that can carry a handle ([`uniphys_verify::panel_handle`]), and it does not
+/// slide along its thinnest axis (a thick door is not a drawer) ...
+pub(crate) const SLAB_RATIO: f64 = uniphys_verify::PANEL_SLAB_RATIO;
 /// ... which is a direction in which it is no deeper than this many times its thinnest extent
 /// (box axes and slide axes agree to a few percent).
 const SLAB_DEPTH_SLACK: f64 = 1.1;
@@ -203,7 +202,6 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         scene,
         mover,
         &child_points,
-        part,
         part.centre - mean(&parent_points),
     );
     // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
@@ -317,12 +315,11 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
 
 /// The centre of the part's handle, if it has one: the parts it carries, or what stands out of
 /// its outer face (turned away from the parent, `away`) against the face around it
-/// ([`panel_handle`]).
+/// ([`uniphys_verify::panel_handle`]).
 fn handle_centre(
     scene: &Scene,
     mover: &Mover<'_>,
     child_points: &[DVec3],
-    part: &PartBox,
     away: DVec3,
 ) -> Option<DVec3> {
     let carried: Vec<usize> = mover
@@ -334,7 +331,7 @@ fn handle_centre(
     if !carried.is_empty() {
         return Some(mean(&scene.points_of(&carried)));
     }
-    panel_handle(child_points, part, away)
+    uniphys_verify::panel_handle(child_points, away)
 }
 
 /// Mean distance from the hinge line (through `pivot` along `axis`) to where the part touches

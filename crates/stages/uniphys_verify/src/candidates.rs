@@ -139,6 +139,82 @@ pub fn edge_pivots(part_points: &[DVec3], parent_points: &[DVec3], axes: [DVec3;
     out
 }
 
+/// Widths of the bands at a part's sides whose material gives [`band_pivots`], fractions of the
+/// part's width across the axis: a thin band finds the edge's own cross-section (a door's panel
+/// beside its hinge, without the handle that widens the part's box), a wide one a recessed or
+/// rounded edge.
+const BAND_FRACTIONS: [f64; 2] = [0.05, 0.2];
+
+/// Pivots of lines along `axis` where a hinge may run inside a part's edge: across the axis, in
+/// the two directions of the part's box axes `part_axes` least aligned with it, the part's
+/// points (`part_points`) in a band at each of its four sides (see `BAND_FRACTIONS`) span a
+/// rectangle; its corners, side middles and centre give a line each. Real hinges seldom lie on
+/// the part's box edge: a door's box grows with its handle and frame, and its hinge sits inside
+/// the panel's own thickness. Lines closer than 0.5 % of the part's diagonal are given once;
+/// each point lies at the middle of the part along the axis. Object frame, metres.
+#[must_use]
+pub fn band_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3; 3]) -> Vec<DVec3> {
+    let axis = axis.normalize_or_zero();
+    if part_points.is_empty() || axis == DVec3::ZERO {
+        return Vec::new();
+    }
+    let mut across: Vec<DVec3> = part_axes
+        .iter()
+        .map(|a| a.reject_from_normalized(axis))
+        .filter(|a| a.length() > 1e-6)
+        .collect();
+    across.sort_by(|a, b| b.length().total_cmp(&a.length()));
+    let Some(u) = across.first().map(|a| a.normalize()) else {
+        return Vec::new();
+    };
+    let v = axis.cross(u);
+    let (lo_t, hi_t) = projection_range(part_points, axis);
+    let middle = 0.5 * (lo_t + hi_t);
+    let flat: Vec<[f64; 2]> = part_points.iter().map(|p| [p.dot(u), p.dot(v)]).collect();
+    let ranges = [
+        projection_range(part_points, u),
+        projection_range(part_points, v),
+    ];
+    let diagonal = uniphys_geometry::Aabb::from_points(part_points).diagonal();
+    let mut out: Vec<DVec3> = Vec::new();
+    for fraction in BAND_FRACTIONS {
+        for dim in 0..2 {
+            let (lo, hi) = ranges[dim];
+            let width = fraction * (hi - lo);
+            for at_low in [true, false] {
+                let band = flat.iter().filter(|q| {
+                    if at_low {
+                        q[dim] <= lo + width
+                    } else {
+                        q[dim] >= hi - width
+                    }
+                });
+                let Some((b_lo, b_hi)) = band.fold(None, |acc: Option<([f64; 2], [f64; 2])>, q| {
+                    Some(acc.map_or((*q, *q), |(l, h)| {
+                        (
+                            [l[0].min(q[0]), l[1].min(q[1])],
+                            [h[0].max(q[0]), h[1].max(q[1])],
+                        )
+                    }))
+                }) else {
+                    continue;
+                };
+                for x in spread((b_lo[0], b_hi[0])) {
+                    for y in spread((b_lo[1], b_hi[1])) {
+                        let p = axis * middle + u * x + v * y;
+                        if out.iter().all(|q| {
+                            (*q - p).reject_from_normalized(axis).length() > 5e-3 * diagonal
+                        }) {
+                            out.push(p);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The two ends and the middle of a range.
 fn spread((lo, hi): (f64, f64)) -> [f64; 3] {
     [lo, 0.5 * (lo + hi), hi]
@@ -222,6 +298,32 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert!(nearest < 1e-3, "{on} {axis}: {nearest}");
         }
+    }
+
+    #[test]
+    fn band_pivots_find_a_hinge_inside_a_door_widened_by_its_handle() {
+        // A door panel 1 m wide (x), 0.04 m thick (y from 0 to 0.04), 2 m tall (z), with a
+        // handle bar standing 0.1 m proud of its front near the far edge (x = 0.9). The hinge
+        // runs up the panel's near edge, in the middle of its thickness: x = 0, y = 0.02.
+        let panel = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.04, 2.0));
+        let handle = TriMesh::cuboid(DVec3::new(0.88, 0.04, 0.8), DVec3::new(0.92, 0.14, 1.2));
+        let mut points = uniphys_geometry::sample_points(&panel, 4000, 3);
+        points.extend(uniphys_geometry::sample_points(&handle, 500, 4));
+        let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+        let hinge = DVec3::new(0.0, 0.02, 0.0);
+        let to_hinge = |p: &DVec3| (*p - hinge).reject_from_normalized(DVec3::Z).length();
+        let nearest = band_pivots(&points, DVec3::Z, axes)
+            .iter()
+            .map(to_hinge)
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 0.005, "band pivots miss the hinge by {nearest}");
+        // The box's edge lines, 0.07 m apart across the box the handle grew to 0.14 m, miss it
+        // by the panel's half thickness.
+        let box_nearest = edge_pivots(&points, &[], axes)
+            .iter()
+            .map(to_hinge)
+            .fold(f64::INFINITY, f64::min);
+        assert!(box_nearest > 0.015, "{box_nearest}");
     }
 
     #[test]

@@ -1,18 +1,20 @@
 //! Feedback correction of a joint that failed its sweep, smallest change first: the range
 //! reversed or cut where the sweep first failed; another pivot on the same axis (contact
-//! clusters and the part's edge lines), keeping the direction, then reversing it; another axis;
-//! the other kind of motion (slide for turn, turn for slide). Within a tier the passing variant
-//! whose hinge runs closest along its parent wins, then the one with the most margin; a tier is only tried when the ones before it found
-//! nothing. A joint that nearly passed only has its range changed; a failure late in the range
-//! is cut before the range is reversed.
+//! clusters, the part's edge lines and its edges' cross-sections), keeping the direction, then
+//! reversing it; another axis (for a slide first the normal of the face it touches and the axis
+//! of the walls around it); the other kind of motion (slide for turn, turn for slide). Within
+//! a tier the passing variant whose hinge runs closest along its parent wins, then the one with
+//! the most margin; a tier is only tried when the ones before it found nothing. A joint that
+//! nearly passed only has its range changed; a failure late in the range is cut before the
+//! range is reversed.
 
-use uniphys_geometry::{DVec3, box_axes, projection_range};
+use uniphys_geometry::{DVec3, box_axes, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
-use crate::candidates::{articulation_candidates, edge_pivots};
+use crate::candidates::{articulation_candidates, band_pivots, edge_pivots};
 use crate::scene::Scene;
-use crate::sweep::{SweepMetrics, SweepParams, sweep};
+use crate::sweep::{SweepMetrics, SweepParams, contact_normal_tensor, slide_touch_m, sweep};
 
 /// A corrected joint, what was changed, and the sweep it passed.
 #[derive(Debug, Clone, PartialEq)]
@@ -202,6 +204,9 @@ fn tiers(
         &scene.points_of(&[joint.parent.0 as usize]),
         part_axes,
     ));
+    if joint.kind != JointKind::Prismatic {
+        pivots.extend(band_pivots(&scene.points_of(moving), axis, part_axes));
+    }
 
     // 3. Another pivot on the same axis: the same way first, then reversed.
     if joint.kind != JointKind::Prismatic {
@@ -223,32 +228,31 @@ fn tiers(
             );
         }
     }
-    // 4. Another axis (candidates from the contact and the part's box), both ways.
+    // 4. Another axis, both ways: for a slide first the normal of the face it touches and the
+    // axis of walls around it (a press, a guided slide), then the candidates from the contact
+    // and the part's box.
+    let contact_axes: Vec<DVec3> = if joint.kind == JointKind::Prismatic {
+        let moving_points = scene.points_of(moving);
+        let touch_m = slide_touch_m(params, &moving_points);
+        contact_normal_tensor(scene, joint.parent.0 as usize, &moving_points, touch_m)
+            .map(|tensor| {
+                let (_, vectors) = symmetric_eigen(tensor);
+                vec![vectors.z_axis, vectors.x_axis]
+            })
+            .unwrap_or_default()
+    } else {
+        Vec::new()
+    };
     let mut axes: Vec<DVec3> = candidates
         .as_ref()
         .map_or_else(Vec::new, |c| c.axes.clone());
     axes.extend(part_axes);
-    let mut other_axes: Vec<DVec3> = Vec::new();
-    for a in axes {
-        let a = a.normalize_or_zero();
-        if a == DVec3::ZERO || line_angle(a, axis) < 0.05 {
-            continue;
-        }
-        if other_axes.iter().all(|b| line_angle(a, *b) > 0.05) {
-            other_axes.push(a);
-        }
-    }
-    let mut tier = Vec::new();
-    for a in &other_axes {
-        for sign in [1.0, -1.0] {
-            let a = *a * sign;
-            tier.push(Variant {
-                joint: with(joint.kind, a, pivot, limits),
-                change: format!("axis changed to ({:.3}, {:.3}, {:.3})", a.x, a.y, a.z),
-            });
-        }
-    }
-    tiers.push(tier);
+    tiers.push(axis_variants(&contact_axes, &[], axis, |a| {
+        with(joint.kind, a, pivot, limits)
+    }));
+    tiers.push(axis_variants(&axes, &contact_axes, axis, |a| {
+        with(joint.kind, a, pivot, limits)
+    }));
 
     // 5. The other kind of motion along or about the same axis.
     let mut tier = Vec::new();
@@ -283,6 +287,41 @@ fn tiers(
     }
     tiers.push(tier);
     tiers
+}
+
+/// Variants of a joint (`make` gives it for an axis) along each of `axes`, both ways, that
+/// differ from `axis` and from each other and from every one of `tried` by more than 0.05 rad.
+fn axis_variants(
+    axes: &[DVec3],
+    tried: &[DVec3],
+    axis: DVec3,
+    make: impl Fn(DVec3) -> Joint,
+) -> Vec<Variant> {
+    let mut distinct: Vec<DVec3> = Vec::new();
+    for a in axes {
+        let a = a.normalize_or_zero();
+        if a == DVec3::ZERO || line_angle(a, axis) < 0.05 {
+            continue;
+        }
+        if distinct
+            .iter()
+            .chain(tried)
+            .all(|b| line_angle(a, *b) > 0.05)
+        {
+            distinct.push(a);
+        }
+    }
+    let mut out = Vec::new();
+    for a in &distinct {
+        for sign in [1.0, -1.0] {
+            let a = *a * sign;
+            out.push(Variant {
+                joint: make(a),
+                change: format!("axis changed to ({:.3}, {:.3}, {:.3})", a.x, a.y, a.z),
+            });
+        }
+    }
+    out
 }
 
 /// The pivots that lie on distinct lines along `axis` (closer than 0.1 % of the diagonal: one).

@@ -3,7 +3,7 @@
 //! which have no inside for a convex collider to stand for.
 
 use parry3d::math::Vector;
-use parry3d::query::{PointQuery, Ray, RayCast};
+use parry3d::query::{PointQuery, PointQueryWithLocation, Ray, RayCast};
 use uniphys_geometry::{Aabb, DVec3, KdTree, TriMesh};
 use uniphys_types::JointKind;
 
@@ -59,6 +59,24 @@ impl Surfaces {
             ),
             None => f64::INFINITY,
         }
+    }
+
+    /// Unit normal of the triangle of `part` nearest to `point` (object frame), if one lies
+    /// within `max_distance_m`.
+    pub(crate) fn nearest_normal(
+        &self,
+        part: usize,
+        point: DVec3,
+        max_distance_m: f64,
+    ) -> Option<DVec3> {
+        let s = self.parts.get(part)?.as_ref()?;
+        let (_, (triangle, _)) = s.mesh.project_local_point_and_get_location_with_max_dist(
+            to_f32(point - self.origin),
+            false,
+            max_distance_m as f32,
+        )?;
+        let n = s.mesh.triangle(triangle).normal()?;
+        Some(DVec3::new(f64::from(n.x), f64::from(n.y), f64::from(n.z)))
     }
 
     /// Where the segment from `from` to `to` (object frame) first crosses the surface of

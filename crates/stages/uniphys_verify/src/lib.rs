@@ -3,12 +3,13 @@
 //! - intrinsic checks per part and object, levels 0-4 of the reference ([`verify_intrinsic`]);
 //! - articulation sweeps: each joint moved through its range; contact with its parent, the
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
-//!   gap to its parent, and interpenetration of convex colliders (a measure for grounders)
-//!   ([`sweep`], [`Scene`]);
+//!   gap to its parent and its direction against the face it sits on, a turning axis held by
+//!   its part, a panel's hinge away from its handle ([`panel_handle`]), and interpenetration of
+//!   convex colliders (a measure for grounders) ([`sweep`], [`Scene`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
-//!   [`correct_joint`]) from the articulation candidates of the contact geometry and the part's
-//!   edge lines ([`articulation_candidates`], [`edge_pivots`]), also used by grounders to
-//!   enumerate hypotheses;
+//!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
+//!   edge lines and the cross-sections of its edges ([`articulation_candidates`],
+//!   [`edge_pivots`], [`band_pivots`]), also used by grounders to enumerate hypotheses;
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
 //! Distance thresholds are fractions of the object's diagonal or of the parts involved, so
@@ -20,6 +21,7 @@ mod contact_reference;
 mod correct;
 mod crossing;
 mod error;
+mod handle;
 mod intrinsic;
 mod motion;
 mod patch;
@@ -32,10 +34,12 @@ pub use articulation::{
     ArticulationOutcome, JointVerdict, parallel_map, verify_articulation, verify_joint,
 };
 pub use candidates::{
-    AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates, edge_pivots,
+    AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates,
+    band_pivots, edge_pivots,
 };
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
+pub use handle::{PANEL_SLAB_RATIO, panel_handle};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use patch::{PatchParams, grow_patch};

@@ -3,11 +3,12 @@
 
 use std::collections::BTreeMap;
 
-use uniphys_geometry::{Aabb, DVec3, KdTree};
+use uniphys_geometry::{Aabb, DMat3, DVec3, KdTree, symmetric_eigen};
 use uniphys_types::{Joint, JointKind};
 
 use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
+use crate::handle::handle_reach_fraction;
 use crate::motion::{JointMotion, sweep_coordinates};
 use crate::patch::{PatchParams, grow_patch};
 use crate::scene::Scene;
@@ -50,6 +51,24 @@ pub struct SweepParams {
     /// How far a short slide's moving group may move away from its parent beyond its gap at
     /// rest, as a fraction of the group's diagonal.
     pub short_slide_gap_fraction: f64,
+    /// A short slide presses into (or lifts off) the face it sits on, or slides along walls
+    /// that guide it. Where its moving samples touch the parent at rest (within
+    /// `rest_contact_part_fraction` of the group's diagonal), the parent's surface normals give
+    /// a tensor `T` (mean of `n n^T`): the slide presses when `a^T T a` is at least this share
+    /// of `T`'s largest eigenvalue (true buttons and lids of real objects: 0.97 to 1; slid
+    /// across the face: 0) ...
+    pub short_slide_press_min: f64,
+    /// ... or is guided when `T` restricted to the plane across the axis has both eigenvalues at
+    /// least this (the neck a cap slides along: 0.37 to 0.5; a flat face: 0).
+    pub short_slide_guidance_min: f64,
+    /// A hinge along a panel's edge fails when the panel's handle lies nearer its axis than this
+    /// share of the panel's reach from the axis: the handle is near the free edge (true hinges
+    /// of real objects: at least 0.47; moved to the opposite edge: at most 0.35).
+    pub hinge_handle_fraction_min: f64,
+    /// A turning joint fails when its axis line passes farther than this fraction of the moving
+    /// group's diagonal from the group's surface: a hinge pin or spin axis is held by the part it
+    /// turns (true joints of real objects: at most 3.3 %).
+    pub hinge_off_part_fraction: f64,
     /// Seed of the candidate search of corrections.
     pub seed: u64,
 }
@@ -57,7 +76,8 @@ pub struct SweepParams {
 impl Default for SweepParams {
     /// 200 steps, the reference's ratios, penetration tolerance 1.5 % of the diagonal, at most
     /// 2 % of the clear moving surface through other parts, contact at rest within 3 % of the
-    /// moving group's diagonal (at most 1 % of the object's).
+    /// moving group's diagonal (at most 1 % of the object's), a turning axis within 10 % of the
+    /// moving group's diagonal from its surface.
     fn default() -> Self {
         Self {
             steps: 200,
@@ -71,6 +91,10 @@ impl Default for SweepParams {
             rest_contact_object_fraction: 0.01,
             short_slide_fraction: 0.05,
             short_slide_gap_fraction: 0.1,
+            hinge_off_part_fraction: 0.1,
+            short_slide_press_min: 0.5,
+            short_slide_guidance_min: 0.15,
+            hinge_handle_fraction_min: 0.4,
             seed: 7,
         }
     }
@@ -129,6 +153,14 @@ pub struct SweepMetrics {
     /// Turning joints: mean distance from the axis line, over the same stretch, to the parent's
     /// surface, metres (small when the hinge runs along its parent); 0 for slides.
     pub hinge_mean_to_parent_m: f64,
+    /// Turning joints: distance from the axis line to the nearest surface sample of the moving
+    /// group, metres; 0 for slides.
+    pub hinge_to_part_m: f64,
+    /// Turning joints: the largest `hinge_to_part_m` allowed, metres; 0 for slides.
+    pub hinge_to_part_max_m: f64,
+    /// Turning joints along a panel's edge: how far the panel's handle lies from the axis, a
+    /// share of the moving parts' reach from it; `None` without such a handle.
+    pub handle_reach_fraction: Option<f64>,
     /// Largest contact threshold a step may need before it counts as contact lost, metres.
     pub contact_reach_m: f64,
     /// Short slides: the largest growth over the sweep of the gap between the moving group and
@@ -136,6 +168,13 @@ pub struct SweepMetrics {
     pub short_slide_gap_growth_m: f64,
     /// Short slides: the gap growth allowed, metres (0 for other joints).
     pub short_slide_gap_max_m: f64,
+    /// Short slides: how much the slide presses into the face it touches at rest (`a^T T a`
+    /// over `T`'s largest eigenvalue, see `SweepParams::short_slide_press_min`); 1 for other
+    /// joints or without contact normals.
+    pub short_slide_press: f64,
+    /// Short slides: how much walls guide the slide (the smaller eigenvalue of `T` across the
+    /// axis); 0 for other joints.
+    pub short_slide_guidance: f64,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -164,6 +203,11 @@ pub struct SweepMetrics {
 /// that line. Collider penetration (a measure for the grounder, not a verdict): for each pair
 /// of a moving and a still convex collider, the contact depth (parry, GJK/EPA) minus its depth
 /// at rest.
+///
+/// Measured at rest, for the physical sense of the joint: a turning axis's distance from the
+/// moving parts (a hinge is held by its part), where a panel's handle lies from a hinge along its
+/// edge ([`crate::panel_handle`]), and how a short slide meets the surface it touches (pressing
+/// into a face or guided by walls, from the parent's triangle normals there).
 ///
 /// Errors: a fixed joint, a joint without limits (other than continuous), parts out of range.
 pub fn sweep(
@@ -244,6 +288,14 @@ pub fn sweep(
 
     let tolerance = params.penetration_tolerance_fraction * diag;
     let hinge = hinge_to_parent_m(scene, &motion, &moving_points, parent);
+    let (hinge_to_part_m, hinge_to_part_max_m) = if motion.kind == JointKind::Prismatic {
+        (0.0, 0.0)
+    } else {
+        (
+            line_to_points_m(&motion, &moving_points),
+            params.hinge_off_part_fraction * Aabb::from_points(&moving_points).diagonal(),
+        )
+    };
     let mut metrics = SweepMetrics {
         kind: joint.kind,
         steps: params.steps,
@@ -268,10 +320,15 @@ pub fn sweep(
         lost_contact_coordinate: None,
         hinge_to_parent_m: hinge.0,
         hinge_mean_to_parent_m: hinge.1,
+        hinge_to_part_m,
+        hinge_to_part_max_m,
+        handle_reach_fraction: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
         short_slide_gap_growth_m: 0.0,
         short_slide_gap_max_m: 0.0,
+        short_slide_press: 1.0,
+        short_slide_guidance: 0.0,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
@@ -286,6 +343,25 @@ pub fn sweep(
         _ => 0.0,
     };
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
+    if joint.kind != JointKind::Prismatic {
+        let child = &scene.samples[joint.child.0 as usize];
+        let away = mean(&moving_points) - mean(parent_points);
+        metrics.handle_reach_fraction = handle_reach_fraction(
+            child,
+            &moving_points,
+            parent_points,
+            motion.axis_in_object,
+            motion.pivot_in_object_m,
+            away,
+        );
+    }
+    if let Some(Some(_)) = short_slide {
+        let touch_m = slide_touch_m(params, &moving_points);
+        if let Some(tensor) = contact_normal_tensor(scene, parent, &moving_points, touch_m) {
+            (metrics.short_slide_press, metrics.short_slide_guidance) =
+                slide_against_contact(tensor, motion.axis_in_object);
+        }
+    }
     let mut crossings = Crossings::new(
         scene,
         &moving_points,
@@ -408,6 +484,65 @@ fn hinge_to_parent_m(
     )
 }
 
+/// The tensor (mean of `n n^T`) of the parent's triangle normals `n` where the `moving` samples
+/// touch `parent` (within `touch_m`); `None` with fewer than 3 touching samples. Its largest
+/// eigenvector is the normal of a face the part sits on, its smallest the axis of walls around
+/// it.
+pub(crate) fn contact_normal_tensor(
+    scene: &Scene,
+    parent: usize,
+    moving: &[DVec3],
+    touch_m: f64,
+) -> Option<DMat3> {
+    let normals: Vec<DVec3> = moving
+        .iter()
+        .filter_map(|p| scene.surfaces.nearest_normal(parent, *p, touch_m))
+        .collect();
+    (normals.len() >= 3).then(|| {
+        normals.iter().fold(DMat3::ZERO, |t, n| {
+            t + DMat3::from_cols(*n * n.x, *n * n.y, *n * n.z)
+        }) * (1.0 / normals.len() as f64)
+    })
+}
+
+/// How a slide along `axis` meets its contact normal tensor `T` ([`contact_normal_tensor`]):
+/// how much it presses (`a^T T a` over `T`'s largest eigenvalue) and how much it is guided (the
+/// smaller eigenvalue of `T` across the axis).
+fn slide_against_contact(tensor: DMat3, axis: DVec3) -> (f64, f64) {
+    let (values, _) = symmetric_eigen(tensor);
+    let a = axis.normalize();
+    let press = a.dot(tensor * a) / values.z.max(1e-12);
+    let u = a.any_orthonormal_vector();
+    let v = a.cross(u);
+    let (uu, vv, uv) = (u.dot(tensor * u), v.dot(tensor * v), u.dot(tensor * v));
+    let guidance = 0.5 * (uu + vv - ((uu - vv).powi(2) + 4.0 * uv * uv).sqrt());
+    (press, guidance)
+}
+
+/// The distance within which a short slide's moving samples touch its parent at rest: the
+/// contact distance at rest for the moving group (`rest_contact_part_fraction` of its
+/// diagonal).
+pub(crate) fn slide_touch_m(params: &SweepParams, moving: &[DVec3]) -> f64 {
+    params.rest_contact_part_fraction * Aabb::from_points(moving).diagonal()
+}
+
+/// The mean of `points` (zero for none).
+fn mean(points: &[DVec3]) -> DVec3 {
+    points.iter().sum::<DVec3>() / points.len().max(1) as f64
+}
+
+/// Distance from a joint's axis line to the nearest of `points`, metres.
+fn line_to_points_m(motion: &JointMotion, points: &[DVec3]) -> f64 {
+    points
+        .iter()
+        .map(|p| {
+            (*p - motion.pivot_in_object_m)
+                .reject_from_normalized(motion.axis_in_object)
+                .length()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Points sampled along a hinge line.
 const HINGE_SAMPLES: usize = 20;
 
@@ -431,10 +566,13 @@ fn percentile(values: &mut [f64], pct: f64) -> f64 {
 impl SweepMetrics {
     /// Why the joint fails, empty when it passes:
     /// - the child does not touch its parent at rest;
+    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), or
+    ///   a hinge along a panel's edge lies at the panel's handle rather than across from it;
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
-    /// - short slides: the part moves away from its parent (a button pulled out);
+    /// - short slides: the part moves away from its parent (a button pulled out), or across the
+    ///   face it sits on (neither pressing into it nor guided by walls);
     /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
     ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
     ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
@@ -451,6 +589,18 @@ impl SweepMetrics {
             reasons.push("the moving part does not touch its parent at rest".to_owned());
         }
         let rotational = matches!(self.kind, JointKind::Revolute | JointKind::Continuous);
+        if self.hinge_off_part() {
+            reasons.push(format!(
+                "the axis passes {:.4} m from the moving part (at most {:.4} m): nothing holds it",
+                self.hinge_to_part_m, self.hinge_to_part_max_m
+            ));
+        }
+        if let Some(f) = self.hinge_at_handle(params) {
+            reasons.push(format!(
+                "hinged at its handle: the handle lies {f:.2} of the part's reach from the axis (at least {:.2}); a handle sits near the free edge",
+                params.hinge_handle_fraction_min
+            ));
+        }
         if self.hinge_lost_contact() {
             reasons.push(format!(
                 "hinge lost contact with its parent in {} of {} steps",
@@ -471,6 +621,15 @@ impl SweepMetrics {
             reasons.push(format!(
                 "severe contact thickness change: p95 ratio = {:.2}",
                 self.thickness_ratio_p95
+            ));
+        }
+        if self.short_slide_unheld(params) {
+            reasons.push(format!(
+                "a short slide moves across the face it sits on: it presses into it {:.2} (at least {:.2}) and is guided by walls {:.2} (at least {:.2})",
+                self.short_slide_press,
+                params.short_slide_press_min,
+                self.short_slide_guidance,
+                params.short_slide_guidance_min
             ));
         }
         if self.short_slide_left_parent() {
@@ -494,11 +653,16 @@ impl SweepMetrics {
     }
 
     /// How badly the joint fails, comparable across variants of one joint: the largest of each
-    /// rule's measure over its limit (crossed fraction, a turning joint's thickness ratio; when
-    /// they fail, lost contact of a turning joint counts 1 plus ten times its share of steps, a
-    /// severe overlap change 1 plus five times its excess of bad steps, a short slide leaving its
-    /// parent 1 plus its gap over the allowed one; 10 without contact at rest). At most 1 when
-    /// the sweep passes.
+    /// rule's measure over its limit. Crossed fraction and a turning joint's thickness ratio
+    /// count as they are; when they fail, lost contact of a turning joint counts 1 plus ten times
+    /// its share of steps, a severe overlap change 1 plus five times its excess of bad steps, a
+    /// short slide leaving its parent 1 plus its gap over the allowed one. Failures no change of
+    /// range can mend count 2 plus their excess: an axis clear of the part, a hinge at its
+    /// handle, a short slide across its face. 10 without contact at rest. At most 1 when the
+    /// sweep passes: then the margin to each rule (a short slide's gap growth over the allowed
+    /// one, the axis's distance from the part over the allowed one, the least handle distance
+    /// over the handle's), so a press is preferred to a pull and a hinge across the part from
+    /// its handle to one beside it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -509,6 +673,15 @@ impl SweepMetrics {
         let mut s = self.crossed_fraction / params.crossing_fraction_max;
         if rotational {
             s = s.max(self.thickness_ratio_p95 / params.thickness_ratio_max);
+        }
+        if self.short_slide_gap_max_m > 0.0 {
+            s = s.max(self.short_slide_gap_growth_m / self.short_slide_gap_max_m);
+        }
+        if self.hinge_to_part_max_m > 0.0 {
+            s = s.max(self.hinge_to_part_m / self.hinge_to_part_max_m);
+        }
+        if let Some(f) = self.handle_reach_fraction {
+            s = s.max(params.hinge_handle_fraction_min / f.max(1e-9));
         }
         if self.hinge_lost_contact() {
             s = s.max(1.0 + 10.0 * self.lost_contact_steps as f64 / steps);
@@ -523,7 +696,36 @@ impl SweepMetrics {
         if self.short_slide_left_parent() {
             s = s.max(1.0 + self.short_slide_gap_growth_m / self.short_slide_gap_max_m);
         }
+        if self.hinge_off_part() {
+            s = s.max(2.0 + self.hinge_to_part_m / self.hinge_to_part_max_m);
+        }
+        if let Some(f) = self.hinge_at_handle(params) {
+            s = s.max(3.0 - f / params.hinge_handle_fraction_min);
+        }
+        if self.short_slide_unheld(params) {
+            let held = (self.short_slide_press / params.short_slide_press_min)
+                .max(self.short_slide_guidance / params.short_slide_guidance_min);
+            s = s.max(3.0 - held);
+        }
         s
+    }
+
+    /// The handle's share of the reach from the axis when it is too near the hinge.
+    fn hinge_at_handle(&self, params: &SweepParams) -> Option<f64> {
+        self.handle_reach_fraction
+            .filter(|&f| f < params.hinge_handle_fraction_min)
+    }
+
+    /// A turning joint's axis runs clear of the parts it turns.
+    fn hinge_off_part(&self) -> bool {
+        self.hinge_to_part_max_m > 0.0 && self.hinge_to_part_m > self.hinge_to_part_max_m
+    }
+
+    /// A short slide neither presses into the face it touches nor slides along guiding walls.
+    fn short_slide_unheld(&self, params: &SweepParams) -> bool {
+        self.short_slide_gap_max_m > 0.0
+            && self.short_slide_press < params.short_slide_press_min
+            && self.short_slide_guidance < params.short_slide_guidance_min
     }
 
     /// A short slide moved its part away from its parent by more than it may.
@@ -578,11 +780,18 @@ impl SweepMetrics {
             ("crossed_fraction", self.crossed_fraction),
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
+            ("hinge_to_part_m", self.hinge_to_part_m),
             ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
+            ("short_slide_press", self.short_slide_press),
+            ("short_slide_guidance", self.short_slide_guidance),
         ];
         entries
             .into_iter()
             .map(|(k, v)| (k.to_owned(), v))
+            .chain(
+                self.handle_reach_fraction
+                    .map(|f| ("handle_reach_fraction".to_owned(), f)),
+            )
             .collect()
     }
 }

@@ -187,3 +187,92 @@ fn bucket_handles_swinging_over_to_the_other_side_pass_unchanged() {
 fn a_laptop_screen_closing_onto_its_keyboard_passes_unchanged() {
     assert_true_joints_pass_unchanged("gensim2-10040");
 }
+
+// A short slide moves along the normal of the face it sits on, and a hinge is held by its part.
+#[test]
+fn a_button_slid_across_its_face_is_caught() {
+    let o = object("kitchen-12428");
+    let buttons: Vec<usize> = o
+        .movable()
+        .into_iter()
+        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Prismatic)
+        .collect();
+    assert!(!buttons.is_empty(), "the dishwasher has buttons");
+    for i in buttons {
+        let truth = o.joints[i].clone();
+        let mut sideways = truth.clone();
+        sideways.axis_in_object = quarter_turned(truth.axis_in_object);
+        let verdict = o.verify(&o.with(i, sideways), i);
+        assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+        assert!(
+            verdict.message.contains("across the face it sits on"),
+            "{}",
+            verdict.message
+        );
+        if let Some((fixed, _)) = verdict.correction {
+            // A correction may only move it along the face's normal, the true axis.
+            assert!(
+                line_angle_deg(fixed.axis_in_object, truth.axis_in_object) < 2.0,
+                "{fixed:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_door_turned_about_a_line_clear_of_it_is_caught() {
+    // The true pivot of this cabinet's door lies on its hinge line, 0.84 door heights above the
+    // door; turned a quarter, the axis runs across the cabinet above the door.
+    let o = object("kitchen-41085");
+    let i = o
+        .movable()
+        .into_iter()
+        .find(|&i| o.joints[i].name == "joint_0")
+        .expect("joint_0");
+    let mut turned = o.joints[i].clone();
+    turned.axis_in_object = quarter_turned(turned.axis_in_object);
+    let verdict = o.verify(&o.with(i, turned), i);
+    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    assert!(
+        verdict.message.contains("nothing holds it"),
+        "{}",
+        verdict.message
+    );
+}
+
+#[test]
+fn a_door_hinged_beside_its_handle_is_caught_and_hinged_across_from_it() {
+    // The microwave's door handle stands out of its face near the free edge.
+    let o = object("kitchen-7167");
+    let i = o.movable()[0];
+    let truth = o.joints[i].clone();
+    let axis = DVec3::from_array(truth.axis_in_object).normalize();
+    let pivot = DVec3::from_array(truth.pivot_in_object_m);
+    let door = o.scene.points_of(&[truth.child.0 as usize]);
+    let centre = door.iter().sum::<DVec3>() / door.len() as f64;
+    let mut opposite = truth.clone();
+    opposite.pivot_in_object_m =
+        (pivot - 2.0 * (pivot - centre).reject_from_normalized(axis)).to_array();
+    let verdict = o.verify(&o.with(i, opposite), i);
+    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    assert!(
+        verdict.message.contains("hinged at its handle"),
+        "{}",
+        verdict.message
+    );
+    let (fixed, change) = verdict.correction.expect("corrected");
+    assert!(change.contains("pivot moved"), "{change}");
+    // Hinged back on the true edge: the new line is nearer the true one than a tenth of the
+    // door's reach from it.
+    let reach = door
+        .iter()
+        .map(|p| (*p - pivot).reject_from_normalized(axis).length())
+        .fold(0.0, f64::max);
+    let off_line = (DVec3::from_array(fixed.pivot_in_object_m) - pivot)
+        .reject_from_normalized(axis)
+        .length();
+    assert!(
+        off_line < 0.1 * reach,
+        "{off_line} from the true hinge line, reach {reach}"
+    );
+}

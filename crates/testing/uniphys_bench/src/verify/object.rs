@@ -1,5 +1,6 @@
 //! One object: ingest, colliders, the verifier on its true joints and on broken ones.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
@@ -8,8 +9,8 @@ use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
-    PatchParams, Scene, SweepParams, articulation_candidates, edge_pivots, moving_group,
-    parallel_map, verify_joint,
+    PatchParams, Scene, SweepParams, articulation_candidates, band_pivots, edge_pivots,
+    moving_group, parallel_map, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
@@ -26,6 +27,8 @@ pub(crate) struct BreakResult {
     pub(crate) restored: bool,
     /// The verifier's message.
     pub(crate) message: String,
+    /// The deciding sweep's metrics (the correction's when one passed).
+    pub(crate) metrics: BTreeMap<String, f64>,
 }
 
 /// What happened to one true joint.
@@ -36,6 +39,8 @@ pub(crate) struct JointResult {
     pub(crate) label: String,
     pub(crate) outcome: CheckOutcome,
     pub(crate) message: String,
+    /// The deciding sweep's metrics (the correction's when one passed).
+    pub(crate) metrics: BTreeMap<String, f64>,
     /// A correction replaced the true joint, and the result no longer matches the truth.
     pub(crate) corrected_wrong: bool,
     /// Rotating joints: distance of the nearest pivot candidate to the true axis line, [0,2]
@@ -134,6 +139,7 @@ pub(crate) fn judge_object(dir: &Path, breakages: bool) -> anyhow::Result<Object
                     .as_ref()
                     .is_some_and(|(j, _)| same_motion(j, joint, scale)),
                 message: v.message,
+                metrics: v.metrics.as_map(),
             });
         }
         let label = asset
@@ -147,6 +153,7 @@ pub(crate) fn judge_object(dir: &Path, breakages: bool) -> anyhow::Result<Object
             label,
             outcome: verdict.outcome,
             message: verdict.message,
+            metrics: verdict.metrics.as_map(),
             corrected_wrong,
             nearest_pivot_model,
             breakages: results,
@@ -184,6 +191,7 @@ fn nearest_pivot(
         part_axes,
     ));
     let axis = DVec3::from_array(joint.axis_in_object);
+    pivots.extend(band_pivots(&scene.points_of(&moving), axis, part_axes));
     let on = DVec3::from_array(joint.pivot_in_object_m);
     pivots
         .iter()

@@ -238,12 +238,14 @@ pub(crate) fn json(results: &Results) -> serde_json::Value {
                 "outcome": format!("{:?}", j.outcome),
                 "corrected_wrong": j.corrected_wrong,
                 "message": j.message,
+                "metrics": j.metrics,
                 "nearest_pivot_model": j.nearest_pivot_model,
                 "breakages": j.breakages.iter().map(|b| json!({
                     "breakage": b.breakage.name(),
                     "caught": b.caught,
                     "restored": b.restored,
                     "message": b.message,
+                    "metrics": b.metrics,
                 })).collect::<Vec<_>>(),
             })
         })

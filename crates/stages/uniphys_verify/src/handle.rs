@@ -1,0 +1,348 @@
+//! A panel's handle: what stands out of its outer face, judged against the face around it.
+//!
+//! The outer face of a real door is rarely a plane: it bulges, curves or carries a raised
+//! frame. A handle is what stands out of the face *locally*: the outer surface is mapped as a
+//! height field over the panel's plane, and a handle sample rises well above the median height
+//! of the cells around it. A bulge or a curve rises with its neighbours and is not a handle; a
+//! bar across the whole width still is, since it fills only a row of the neighbourhood.
+
+use uniphys_geometry::{Aabb, DVec3, KdTree, box_axes, projection_range};
+
+/// A part is a panel (a slab with an outer face that can carry a handle) when its thinnest box
+/// extent is below this share of its middle one.
+pub const PANEL_SLAB_RATIO: f64 = 0.5;
+
+/// Cells of the height field along each of the panel's two long axes: about this many samples
+/// per cell on average ...
+const SAMPLES_PER_CELL: usize = 2;
+/// ... and between these many cells each way.
+const GRID_RANGE: (usize, usize) = (4, 16);
+/// A cell is compared with the cells within this share of the grid each way (at least one); the
+/// window keeps its size at the panel's edges (a bar along an edge is still a minority of it).
+const NEIGHBOURHOOD_FRACTION: f64 = 0.15;
+/// A handle stands out of the face around it by at least this share of the panel's own
+/// thickness ...
+const STAND_OUT_OF_THICKNESS: f64 = 0.25;
+/// ... and at least this share of the panel's diagonal (a groove or a moulding does not).
+const STAND_OUT_OF_DIAGONAL: f64 = 0.01;
+/// A handle is between these shares of the panel's surface samples.
+const SHARE_RANGE: (f64, f64) = (0.002, 0.3);
+
+/// The box of a part's samples along its box axes.
+struct PanelBox {
+    axes: [DVec3; 3],
+    ranges: [(f64, f64); 3],
+    diagonal: f64,
+}
+
+impl PanelBox {
+    fn of(points: &[DVec3]) -> Self {
+        let axes = box_axes(points);
+        let ranges = axes.map(|a| projection_range(points, a));
+        let diagonal = ranges
+            .iter()
+            .map(|(lo, hi)| (hi - lo).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        Self {
+            axes,
+            ranges,
+            diagonal,
+        }
+    }
+
+    fn extent(&self, k: usize) -> f64 {
+        (self.ranges[k].1 - self.ranges[k].0).max(0.0)
+    }
+
+    /// Thinner than [`PANEL_SLAB_RATIO`] of its middle extent.
+    fn is_panel(&self) -> bool {
+        let mut sorted = [self.extent(0), self.extent(1), self.extent(2)];
+        sorted.sort_by(f64::total_cmp);
+        sorted[0] < PANEL_SLAB_RATIO * sorted[1]
+    }
+}
+
+/// The centre of the handle standing out of the outer face of a panel (sampled at `points`):
+/// the face of its thinnest box axis turned along `away` (away from its parent). `None` when
+/// the part is no panel (see [`PANEL_SLAB_RATIO`]) or nothing stands out of its face.
+#[must_use]
+pub fn panel_handle(points: &[DVec3], away: DVec3) -> Option<DVec3> {
+    standing_out(points, away).map(|s| mean(&s))
+}
+
+/// The samples of a handle standing out of a panel's outer face (see [`panel_handle`]).
+fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
+    if points.is_empty() {
+        return None;
+    }
+    let part = PanelBox::of(points);
+    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    // Only a slab has an outer face (not a cap, a knob).
+    if !part.is_panel() {
+        return None;
+    }
+    let normal = if part.axes[thin].dot(away) < 0.0 {
+        -part.axes[thin]
+    } else {
+        part.axes[thin]
+    };
+    let (a, b) = ((thin + 1) % 3, (thin + 2) % 3);
+    let grid = ((points.len() / SAMPLES_PER_CELL) as f64)
+        .sqrt()
+        .clamp(GRID_RANGE.0 as f64, GRID_RANGE.1 as f64) as usize;
+    let reach = ((NEIGHBOURHOOD_FRACTION * grid as f64).round() as usize).max(1);
+    let cell_of = |p: &DVec3| {
+        let index = |k: usize| {
+            let (lo, hi) = part.ranges[k];
+            let t = (p.dot(part.axes[k]) - lo) / (hi - lo).max(1e-12);
+            ((t * grid as f64) as usize).min(grid - 1)
+        };
+        index(a) * grid + index(b)
+    };
+    // Per cell, the outermost level of the surface along the normal; per block of 2 x 2 cells
+    // (enough samples to hold both faces), the outermost and innermost.
+    let blocks = grid.div_ceil(2);
+    let mut top = vec![f64::NEG_INFINITY; grid * grid];
+    let mut block_top = vec![f64::NEG_INFINITY; blocks * blocks];
+    let mut block_bottom = vec![f64::INFINITY; blocks * blocks];
+    let cells: Vec<usize> = points.iter().map(cell_of).collect();
+    for (p, &c) in points.iter().zip(&cells) {
+        let level = p.dot(normal);
+        let block = (c / grid / 2) * blocks + (c % grid) / 2;
+        top[c] = top[c].max(level);
+        block_top[block] = block_top[block].max(level);
+        block_bottom[block] = block_bottom[block].min(level);
+    }
+    if top.iter().filter(|t| t.is_finite()).count() < grid {
+        return None;
+    }
+    // The panel's own thickness: the median over the blocks.
+    let mut thicknesses: Vec<f64> = block_top
+        .iter()
+        .zip(&block_bottom)
+        .filter(|(t, _)| t.is_finite())
+        .map(|(t, b)| t - b)
+        .collect();
+    let thickness = median(&mut thicknesses);
+    let rise = (STAND_OUT_OF_THICKNESS * thickness).max(STAND_OUT_OF_DIAGONAL * part.diagonal);
+    // The face level around each cell: the median outermost level of its neighbourhood.
+    let around: Vec<Option<f64>> = (0..grid * grid)
+        .map(|c| {
+            let (i, j) = (c / grid, c % grid);
+            let window = |k: usize| {
+                let start = k
+                    .saturating_sub(reach)
+                    .min(grid.saturating_sub(2 * reach + 1));
+                start..=(start + 2 * reach).min(grid - 1)
+            };
+            let mut levels: Vec<f64> = window(i)
+                .flat_map(|ii| window(j).map(move |jj| ii * grid + jj))
+                .map(|n| top[n])
+                .filter(|t| t.is_finite())
+                .collect();
+            (levels.len() >= 3).then(|| median(&mut levels))
+        })
+        .collect();
+    let standing: Vec<DVec3> = points
+        .iter()
+        .zip(&cells)
+        .filter(|(p, c)| around[**c].is_some_and(|face| p.dot(normal) > face + rise))
+        .map(|(p, _)| *p)
+        .collect();
+    let share = standing.len() as f64 / points.len().max(1) as f64;
+    (SHARE_RANGE.0..=SHARE_RANGE.1)
+        .contains(&share)
+        .then_some(standing)
+}
+
+/// The mean of `points` (zero for none).
+fn mean(points: &[DVec3]) -> DVec3 {
+    points.iter().sum::<DVec3>() / points.len().max(1) as f64
+}
+
+/// A hinge runs along a panel's edge when its axis is this far at most from the panel's plane
+/// (|cosine| to the panel's normal): a door's or a lid's, not a knob's or a blade's, which turn
+/// about their normal.
+const IN_PLANE_COS_MAX: f64 = 0.5;
+
+/// What stands out of a panel's face within this share of the moving parts' diagonal of its
+/// parent touches it: a hinge or a fitting, not a handle (a laptop's hinge cover: 0.2 %; door
+/// handles of real objects: at least 3 %).
+const HANDLE_TOUCH_FRACTION: f64 = 0.01;
+
+/// How far a panel's handle lies from a hinge line through `pivot` along `axis`, as a share of
+/// the moving parts' reach from that line (1: at the far edge); `None` when the part (`child`,
+/// samples of the part itself) is no panel, the axis does not run along the panel's plane, no
+/// handle stands out of its outer face (turned along `away`), or what stands out touches the
+/// parent (`parent`: its samples; within [`HANDLE_TOUCH_FRACTION`] of the moving parts'
+/// diagonal): a handle is free to grip, what touches the parent is a hinge or a fitting (a
+/// laptop's hinge cover). The handle of the part itself comes first, then that of the whole moving group
+/// (`group`: the part and what it carries, such as a handle fixed to a door).
+#[must_use]
+pub(crate) fn handle_reach_fraction(
+    child: &[DVec3],
+    group: &[DVec3],
+    parent: &[DVec3],
+    axis: DVec3,
+    pivot: DVec3,
+    away: DVec3,
+) -> Option<f64> {
+    if child.is_empty() {
+        return None;
+    }
+    let axis = axis.normalize_or_zero();
+    let part = PanelBox::of(child);
+    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    if part.axes[thin].dot(axis).abs() > IN_PLANE_COS_MAX {
+        return None;
+    }
+    let standing = standing_out(child, away)
+        .or_else(|| (group.len() > child.len()).then(|| standing_out(group, away))?)?;
+    let touch_m = HANDLE_TOUCH_FRACTION * Aabb::from_points(group).diagonal();
+    let parent = KdTree::new(parent.to_vec());
+    if standing
+        .iter()
+        .any(|p| parent.nearest_distance(*p) <= touch_m)
+    {
+        return None;
+    }
+    let off_line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
+    let reach = group.iter().map(|p| off_line(*p)).fold(0.0, f64::max);
+    (reach > 0.0).then(|| off_line(mean(&standing)) / reach)
+}
+
+/// The median of `values` (reordered); 0 when empty.
+fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mid = values.len() / 2;
+    *values.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Samples of a door 0.6 wide (x), 0.8 tall (z) and 0.02 thick (y, outer face toward -y)
+    /// whose outer face bulges out by `bulge_m` in its middle, with a bar 0.05 proud of the face
+    /// across its top when `bar` is set.
+    fn door(bulge_m: f64, bar: bool) -> Vec<DVec3> {
+        let mut points = Vec::new();
+        let n = 60;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let (x, z) = (-0.3 + 0.6 * u, 0.8 * v);
+                let rise =
+                    bulge_m * (std::f64::consts::PI * u).sin() * (std::f64::consts::PI * v).sin();
+                points.push(DVec3::new(x, -0.02 - rise, z));
+                points.push(DVec3::new(x, 0.0, z));
+            }
+        }
+        if bar {
+            for i in 0..=40 {
+                for k in 0..=4 {
+                    let x = -0.2 + 0.4 * i as f64 / 40.0;
+                    points.push(DVec3::new(x, -0.07, 0.72 + 0.03 * k as f64 / 4.0));
+                }
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn a_bar_on_a_bulging_face_is_the_handle_and_the_bulge_is_not() {
+        let points = door(0.03, true);
+        let handle = panel_handle(&points, -DVec3::Y).expect("the bar is a handle");
+        assert!(
+            handle.z > 0.7 && handle.x.abs() < 0.05,
+            "at the bar: {handle:?}"
+        );
+        let bare = door(0.03, false);
+        assert!(
+            panel_handle(&bare, -DVec3::Y).is_none(),
+            "a bulge alone is no handle"
+        );
+    }
+
+    #[test]
+    fn a_thick_part_has_no_handle() {
+        // A cube with a stub on one face is not a panel.
+        let mut points: Vec<DVec3> = (0..=20)
+            .flat_map(|i| (0..=20).flat_map(move |j| (0..=20).map(move |k| (i, j, k))))
+            .filter(|(i, j, k)| [i, j, k].iter().any(|c| **c == 0 || **c == 20))
+            .map(|(i, j, k)| DVec3::new(i as f64, j as f64, k as f64) * 0.01)
+            .collect();
+        points.extend((0..20).map(|k| DVec3::new(0.1, -0.03, 0.1 + 0.001 * k as f64)));
+        assert!(panel_handle(&points, -DVec3::Y).is_none());
+    }
+
+    /// The flat door of `door` with a vertical bar 0.05 proud of its outer face at x = 0.25,
+    /// near its right edge (x = 0.3).
+    fn door_with_side_bar() -> Vec<DVec3> {
+        let mut points = door(0.0, false);
+        for i in 0..=40 {
+            for k in 0..=4 {
+                let z = 0.2 + 0.4 * i as f64 / 40.0;
+                points.push(DVec3::new(0.24 + 0.02 * k as f64 / 4.0, -0.07, z));
+            }
+        }
+        points
+    }
+
+    /// A wall 0.05 behind the door's inner face, plus `extra` points.
+    fn wall(extra: &[DVec3]) -> Vec<DVec3> {
+        let mut points: Vec<DVec3> = (0..=30)
+            .flat_map(|i| {
+                (0..=30)
+                    .map(move |j| DVec3::new(-0.3 + 0.02 * i as f64, 0.05, 0.8 * j as f64 / 30.0))
+            })
+            .collect();
+        points.extend_from_slice(extra);
+        points
+    }
+
+    #[test]
+    fn a_hinge_lies_across_the_door_from_its_handle() {
+        let points = door_with_side_bar();
+        let parent = wall(&[]);
+        let fraction = |x: f64| {
+            handle_reach_fraction(
+                &points,
+                &points,
+                &parent,
+                DVec3::Z,
+                DVec3::new(x, 0.0, 0.0),
+                -DVec3::Y,
+            )
+        };
+        // Hinged on the left edge, the handle is at 0.55 of the 0.6 reach.
+        let far = fraction(-0.3).expect("a handle");
+        assert!((far - 0.55 / 0.6).abs() < 0.05, "{far}");
+        // Hinged on the right edge, beside the handle.
+        let near = fraction(0.3).expect("a handle");
+        assert!(near < 0.2, "{near}");
+        // A spin about the door's normal is no hinge along its edge.
+        let spin =
+            handle_reach_fraction(&points, &points, &parent, DVec3::Y, DVec3::ZERO, -DVec3::Y);
+        assert!(spin.is_none());
+    }
+
+    #[test]
+    fn what_stands_out_against_the_parent_is_no_handle() {
+        let points = door_with_side_bar();
+        // The parent reaches round to touch the bar (a hinge cover seated in its base).
+        let parent = wall(&[DVec3::new(0.25, -0.072, 0.4)]);
+        let fraction = handle_reach_fraction(
+            &points,
+            &points,
+            &parent,
+            DVec3::Z,
+            DVec3::new(0.3, 0.0, 0.0),
+            -DVec3::Y,
+        );
+        assert!(fraction.is_none(), "{fraction:?}");
+    }
+}
