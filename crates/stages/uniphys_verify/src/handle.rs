@@ -5,6 +5,10 @@
 //! height field over the panel's plane, and a handle sample rises well above the median height
 //! of the cells around it. A bulge or a curve rises with its neighbours and is not a handle; a
 //! bar across the whole width still is, since it fills only a row of the neighbourhood.
+//!
+//! A hinge along a panel's edge lies across the panel from its handle: the verifier's sweep
+//! measures the handle's distance from the axis ([`handle_reach_fraction`]), and the grounder
+//! places hinges with [`panel_handle`].
 
 use uniphys_geometry::{Aabb, DVec3, KdTree, box_axes, projection_range};
 
@@ -172,13 +176,13 @@ const IN_PLANE_COS_MAX: f64 = 0.5;
 const HANDLE_TOUCH_FRACTION: f64 = 0.01;
 
 /// How far a panel's handle lies from a hinge line through `pivot` along `axis`, as a share of
-/// the moving parts' reach from that line (1: at the far edge); `None` when the part (`child`,
-/// samples of the part itself) is no panel, the axis does not run along the panel's plane, no
-/// handle stands out of its outer face (turned along `away`), or what stands out touches the
-/// parent (`parent`: its samples; within [`HANDLE_TOUCH_FRACTION`] of the moving parts'
-/// diagonal): a handle is free to grip, what touches the parent is a hinge or a fitting (a
-/// laptop's hinge cover). The handle of the part itself comes first, then that of the whole moving group
-/// (`group`: the part and what it carries, such as a handle fixed to a door).
+/// the moving parts' reach from that line (1: at the far edge). The handle of the part itself
+/// (`child`: its samples) comes first, then that of the whole moving group (`group`: the part
+/// and what it carries, such as a handle fixed to a door). `None` when the part is no panel, the
+/// axis does not run along the panel's plane, nothing stands out of its outer face (turned along
+/// `away`), or what stands out touches the parent (`parent`: its samples; within
+/// [`HANDLE_TOUCH_FRACTION`] of the moving parts' diagonal): a handle is free to grip, what
+/// touches the parent is a hinge or a fitting (a laptop's hinge cover).
 #[must_use]
 pub(crate) fn handle_reach_fraction(
     child: &[DVec3],
