@@ -145,9 +145,9 @@ pub fn edge_pivots(part_points: &[DVec3], parent_points: &[DVec3], axes: [DVec3;
 /// rounded edge.
 const BAND_FRACTIONS: [f64; 2] = [0.05, 0.2];
 
-/// Pivots of lines along `axis` where a hinge may run inside a part's edge: across the axis, in
-/// the two directions of the part's box axes `part_axes` least aligned with it, the part's
-/// points (`part_points`) in a band at each of its four sides (see `BAND_FRACTIONS`) span a
+/// Pivots of lines along `axis` where a hinge may run inside a part's edge: across the axis (along
+/// the part's box axis, of `part_axes`, least aligned with it, and the direction across both),
+/// the part's points (`part_points`) in a band at each of its four sides (see `BAND_FRACTIONS`) span a
 /// rectangle; its corners, side middles and centre give a line each. Real hinges seldom lie on
 /// the part's box edge: a door's box grows with its handle and frame, and its hinge sits inside
 /// the panel's own thickness. Lines closer than 0.5 % of the part's diagonal are given once;
