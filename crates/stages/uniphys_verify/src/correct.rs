@@ -13,8 +13,9 @@ use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, edge_pivots};
+use crate::held::{contact_normal_tensor, slide_touch_m};
 use crate::scene::Scene;
-use crate::sweep::{SweepMetrics, SweepParams, contact_normal_tensor, slide_touch_m, sweep};
+use crate::sweep::{SweepMetrics, SweepParams, sweep};
 
 /// A corrected joint, what was changed, and the sweep it passed.
 #[derive(Debug, Clone, PartialEq)]

@@ -22,6 +22,7 @@ mod correct;
 mod crossing;
 mod error;
 mod handle;
+mod held;
 mod intrinsic;
 mod motion;
 mod patch;
