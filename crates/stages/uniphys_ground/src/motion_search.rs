@@ -30,8 +30,9 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
+use uniphys_geometry::{Aabb, DVec3, projection_range};
 use uniphys_types::{Joint, JointKind};
+pub(crate) use uniphys_verify::PartBox;
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
 
 use crate::articulate::builtin_joint;
@@ -91,46 +92,6 @@ pub(crate) struct Mover<'a> {
 pub(crate) struct Motion {
     pub(crate) joint: Option<Joint>,
     pub(crate) summary: String,
-}
-
-/// A part's box: axes, projection ranges, centre and diagonal.
-pub(crate) struct PartBox {
-    pub(crate) axes: [DVec3; 3],
-    pub(crate) ranges: [(f64, f64); 3],
-    pub(crate) centre: DVec3,
-    pub(crate) diagonal: f64,
-}
-
-impl PartBox {
-    pub(crate) fn of(points: &[DVec3]) -> Self {
-        let axes = box_axes(points);
-        let ranges = axes.map(|a| projection_range(points, a));
-        let centre = (0..3)
-            .map(|k| axes[k] * (0.5 * (ranges[k].0 + ranges[k].1)))
-            .sum();
-        let diagonal = ranges
-            .iter()
-            .map(|(lo, hi)| (hi - lo).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        Self {
-            axes,
-            ranges,
-            centre,
-            diagonal,
-        }
-    }
-
-    pub(crate) fn extent(&self, k: usize) -> f64 {
-        (self.ranges[k].1 - self.ranges[k].0).max(0.0)
-    }
-
-    /// Extents sorted from thinnest to thickest.
-    pub(crate) fn sorted_extents(&self) -> [f64; 3] {
-        let mut e = [self.extent(0), self.extent(1), self.extent(2)];
-        e.sort_by(f64::total_cmp);
-        e
-    }
 }
 
 /// A swept candidate and what it showed.

@@ -10,7 +10,9 @@
 //! measures the handle's distance from the axis ([`handle_reach_fraction`]), and the grounder
 //! places hinges with [`panel_handle`].
 
-use uniphys_geometry::{Aabb, DVec3, KdTree, box_axes, projection_range};
+use uniphys_geometry::{Aabb, DVec3, KdTree};
+
+use crate::part_box::PartBox;
 
 /// A part is a panel (a slab with an outer face that can carry a handle) when its thinnest box
 /// extent is below this share of its middle one.
@@ -32,39 +34,10 @@ const STAND_OUT_OF_DIAGONAL: f64 = 0.01;
 /// A handle is between these shares of the panel's surface samples.
 const SHARE_RANGE: (f64, f64) = (0.002, 0.3);
 
-/// The box of a part's samples along its box axes.
-struct PanelBox {
-    axes: [DVec3; 3],
-    ranges: [(f64, f64); 3],
-    diagonal: f64,
-}
-
-impl PanelBox {
-    fn of(points: &[DVec3]) -> Self {
-        let axes = box_axes(points);
-        let ranges = axes.map(|a| projection_range(points, a));
-        let diagonal = ranges
-            .iter()
-            .map(|(lo, hi)| (hi - lo).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        Self {
-            axes,
-            ranges,
-            diagonal,
-        }
-    }
-
-    fn extent(&self, k: usize) -> f64 {
-        (self.ranges[k].1 - self.ranges[k].0).max(0.0)
-    }
-
-    /// Thinner than [`PANEL_SLAB_RATIO`] of its middle extent.
-    fn is_panel(&self) -> bool {
-        let mut sorted = [self.extent(0), self.extent(1), self.extent(2)];
-        sorted.sort_by(f64::total_cmp);
-        sorted[0] < PANEL_SLAB_RATIO * sorted[1]
-    }
+/// Whether a part's box is a panel: thinner than [`PANEL_SLAB_RATIO`] of its middle extent.
+fn is_panel(part: &PartBox) -> bool {
+    let [thinnest, middle, _] = part.sorted_extents();
+    thinnest < PANEL_SLAB_RATIO * middle
 }
 
 /// The centre of the handle standing out of the outer face of a panel (sampled at `points`):
@@ -80,10 +53,10 @@ fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
     if points.is_empty() {
         return None;
     }
-    let part = PanelBox::of(points);
+    let part = PartBox::of(points);
     let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
     // Only a slab has an outer face (not a cap, a knob).
-    if !part.is_panel() {
+    if !is_panel(&part) {
         return None;
     }
     let normal = if part.axes[thin].dot(away) < 0.0 {
@@ -196,7 +169,7 @@ pub(crate) fn handle_reach_fraction(
         return None;
     }
     let axis = axis.normalize_or_zero();
-    let part = PanelBox::of(child);
+    let part = PartBox::of(child);
     let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
     if part.axes[thin].dot(axis).abs() > IN_PLANE_COS_MAX {
         return None;

@@ -1,0 +1,53 @@
+//! A part's box along its own box axes, from its surface samples.
+
+use uniphys_geometry::{DVec3, box_axes, projection_range};
+
+/// A part's box: axes, projection ranges, centre and diagonal (object frame, metres).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartBox {
+    /// The part's box axes (unit, orthogonal).
+    pub axes: [DVec3; 3],
+    /// The samples' projection range along each axis.
+    pub ranges: [(f64, f64); 3],
+    /// The box's centre.
+    pub centre: DVec3,
+    /// The box's diagonal.
+    pub diagonal: f64,
+}
+
+impl PartBox {
+    /// The box of `points` along their box axes.
+    #[must_use]
+    pub fn of(points: &[DVec3]) -> Self {
+        let axes = box_axes(points);
+        let ranges = axes.map(|a| projection_range(points, a));
+        let centre = (0..3)
+            .map(|k| axes[k] * (0.5 * (ranges[k].0 + ranges[k].1)))
+            .sum();
+        let diagonal = ranges
+            .iter()
+            .map(|(lo, hi)| (hi - lo).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        Self {
+            axes,
+            ranges,
+            centre,
+            diagonal,
+        }
+    }
+
+    /// The extent along axis `k`.
+    #[must_use]
+    pub fn extent(&self, k: usize) -> f64 {
+        (self.ranges[k].1 - self.ranges[k].0).max(0.0)
+    }
+
+    /// Extents sorted from thinnest to thickest.
+    #[must_use]
+    pub fn sorted_extents(&self) -> [f64; 3] {
+        let mut e = [self.extent(0), self.extent(1), self.extent(2)];
+        e.sort_by(f64::total_cmp);
+        e
+    }
+}
