@@ -23,10 +23,10 @@
 //!    - A part that can do neither is fixed.
 //!
 //!    Among hinges, the one with the widest free turn (up to a quarter turn) whose line runs along
-//!    its parent and through where the part touches it wins; a line along the long edge, and far
-//!    from the handle (standing out of the outer face, or a part it carries), break ties. A
-//!    slide's range is its free range; a hinge is swept again both ways for its range
-//!    ([`crate::hinge_range`]).
+//!    its parent and through where the part touches it at both ends of the contact wins; a line
+//!    far from the handle (standing out of the outer face, or a part it carries) weighs as much
+//!    as a quarter turn, and a line along the long edge breaks ties. A slide's range is its free
+//!    range; a hinge is swept again both ways for its range ([`crate::hinge_range`]).
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -75,6 +75,10 @@ const SLAB_DEPTH_SLACK: f64 = 1.1;
 /// Contacts within this share of the contact's extent from either end of a hinge axis hold the
 /// hinge.
 const HINGE_END_FRACTION: f64 = 0.15;
+/// Weight of the handle's distance from a hinge line (as a share of the part's width) in a
+/// hinge's score: a handle is put where it gives the most leverage, at the edge across from the
+/// hinge, so it outweighs the long-edge tie-break (0.3).
+const HANDLE_WEIGHT: f64 = 1.0;
 /// Steps of each candidate's sweep.
 const STEPS: usize = 16;
 
@@ -204,7 +208,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
                 - 2.0 * m.hinge_mean_to_parent_m / part.diagonal.max(1e-12)
                 - 2.0 * from_contact / part.diagonal.max(1e-12)
                 + 0.3 * along / longest
-                + 0.5 * from_handle.min(1.0);
+                + HANDLE_WEIGHT * from_handle.min(1.0);
             hinges.push(Candidate { joint, free, score });
         }
     }
@@ -295,23 +299,30 @@ fn handle_centre(
     uniphys_verify::panel_handle(child_points, away)
 }
 
-/// Mean distance from the hinge line (through `pivot` along `axis`) to where the part touches
-/// its parent near either end of the contact (its first and last [`HINGE_END_FRACTION`] along
-/// the axis): a hinge holds a part at both ends of its axis (a bucket handle's two
-/// attachments), so the rest of a part that leans on its parent at rest does not count.
+/// How far the hinge line (through `pivot` along `axis`) passes from where the part touches its
+/// parent at either end of the contact (its first and last [`HINGE_END_FRACTION`] along the
+/// axis): the nearest contact at each end, averaged over the two ends. A hinge holds a part at
+/// both ends of its axis (a bucket handle's two attachments), so a line clear of the contact at
+/// an end is no hinge. The nearest contact, not the mean, counts: a door closed in its frame
+/// touches along its whole rim, and every edge of it has contact at both its ends.
 fn contact_off_line(touching: &[DVec3], pivot: DVec3, axis: DVec3) -> f64 {
     let line = |p: &DVec3| (*p - pivot).reject_from_normalized(axis).length();
     let (lo, hi) = projection_range(touching, axis);
     let end = HINGE_END_FRACTION * (hi - lo);
-    let near_ends: Vec<f64> = touching
-        .iter()
-        .filter(|p| {
-            let t = p.dot(axis);
-            t <= lo + end || t >= hi - end
-        })
-        .map(line)
-        .collect();
-    near_ends.iter().sum::<f64>() / near_ends.len().max(1) as f64
+    let nearest = |at_end: &dyn Fn(f64) -> bool| {
+        touching
+            .iter()
+            .filter(|p| at_end(p.dot(axis)))
+            .map(line)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (first, last) = (nearest(&|t| t <= lo + end), nearest(&|t| t >= hi - end));
+    match (first.is_finite(), last.is_finite()) {
+        (true, true) => 0.5 * (first + last),
+        (true, false) => first,
+        (false, true) => last,
+        (false, false) => 0.0,
+    }
 }
 
 /// The points within `touch_m` of the own triangles of part `other`.

@@ -148,3 +148,9 @@ fn a_dishwasher_door_with_a_bar_at_its_top_drops_open_about_its_bottom_edge() {
 fn a_cabinet_door_hinges_on_the_edge_away_from_its_handle() {
     check("kitchen-46197", false);
 }
+
+#[test]
+fn a_microwave_door_hinges_across_from_its_handle_not_along_its_long_edge() {
+    // The door is wider than tall: its long edge would be a flap's hinge.
+    check("gensim2-7221", true);
+}
