@@ -5,7 +5,9 @@
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
 //!   gap to its parent and its direction against the face it sits on, a turning axis held by
 //!   its part, a panel's hinge away from its handle ([`panel_handle`]), and interpenetration of
-//!   convex colliders (a measure for grounders) ([`sweep`], [`Scene`]);
+//!   convex colliders (a measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
+//!   sweep, which rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
+//!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
 //!   edge lines and the cross-sections of its edges ([`articulation_candidates`],
@@ -31,6 +33,7 @@ mod penetration;
 mod plausibility;
 mod scene;
 mod sweep;
+mod verdict;
 
 pub use articulation::{
     ArticulationOutcome, JointVerdict, parallel_map, verify_articulation, verify_joint,

@@ -1,0 +1,248 @@
+//! The verdict on a sweep: which physical rules its metrics break ([`SweepMetrics::failures`]),
+//! how badly, comparably across variants of one joint ([`SweepMetrics::severity`]), where it
+//! first failed, and its metrics by name.
+
+use std::collections::BTreeMap;
+
+use uniphys_types::JointKind;
+
+use crate::sweep::{SweepMetrics, SweepParams};
+
+impl SweepMetrics {
+    /// Why the joint fails, empty when it passes:
+    /// - the child does not touch its parent at rest;
+    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), or
+    ///   a hinge along a panel's edge lies at the panel's handle rather than across from it;
+    /// - rotational joints: contact lost at some step while the axis runs away from the parent,
+    ///   or severe overlap change (more than
+    ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
+    /// - short slides: the part moves away from its parent (a button pulled out), or across the
+    ///   face it sits on (neither pressing into it nor guided by walls);
+    /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
+    ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
+    ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
+    ///   so anything it passes through is a crossing measured across the crossed plane, while its
+    ///   contact, spread over rails and frame in several planes, thickens and thins as it slides);
+    /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
+    ///   at rest passes through another part's surface (where it crosses inside the space the
+    ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
+    ///   overlapped at rest, or a symmetric part turning in place, is not new).
+    #[must_use]
+    pub fn failures(&self, params: &SweepParams) -> Vec<String> {
+        let mut reasons = Vec::new();
+        if self.initial_contact_points == 0 {
+            reasons.push("the moving part does not touch its parent at rest".to_owned());
+        }
+        let rotational = self.rotational();
+        if self.hinge_off_part() {
+            reasons.push(format!(
+                "the axis passes {:.4} m from the moving part (at most {:.4} m): nothing holds it",
+                self.hinge_to_part_m, self.hinge_to_part_max_m
+            ));
+        }
+        if let Some(f) = self.hinge_at_handle(params) {
+            reasons.push(format!(
+                "hinged at its handle: the handle lies {f:.2} of the part's reach from the axis (at least {:.2}); a handle sits near the free edge",
+                params.hinge_handle_fraction_min
+            ));
+        }
+        if self.hinge_lost_contact() {
+            reasons.push(format!(
+                "hinge lost contact with its parent in {} of {} steps",
+                self.lost_contact_steps, self.steps
+            ));
+        }
+        if self.severe_overlap_change(params) {
+            reasons.push(format!(
+                "severe contact overlap change: p10 = {:.3}, bad fraction = {:.3}",
+                self.overlap_ratio_p10, self.bad_overlap_fraction
+            ));
+        }
+        if rotational && self.thickness_ratio_p95 > params.thickness_ratio_max {
+            reasons.push(format!(
+                "severe contact thickness change: p95 ratio = {:.2}",
+                self.thickness_ratio_p95
+            ));
+        }
+        if self.short_slide_unheld(params) {
+            reasons.push(format!(
+                "a short slide moves across the face it sits on: it presses into it {:.2} (at least {:.2}) and is guided by walls {:.2} (at least {:.2})",
+                self.short_slide_press,
+                params.short_slide_press_min,
+                self.short_slide_guidance,
+                params.short_slide_guidance_min
+            ));
+        }
+        if self.short_slide_left_parent() {
+            reasons.push(format!(
+                "a short slide leaves its parent: {:.4} m further away than at rest (at most {:.4} m)",
+                self.short_slide_gap_growth_m, self.short_slide_gap_max_m
+            ));
+        }
+        if self.crossed_fraction > params.crossing_fraction_max {
+            let part = self
+                .crossed_part
+                .map_or_else(|| "?".to_owned(), |p| p.to_string());
+            reasons.push(format!(
+                "passes through part {part}: {:.1} % of its clear surface from coordinate {:.4} (at most {:.1} %)",
+                100.0 * self.crossed_fraction,
+                self.crossing_coordinate.unwrap_or(f64::NAN),
+                100.0 * params.crossing_fraction_max
+            ));
+        }
+        reasons
+    }
+
+    /// How badly the joint fails, comparable across variants of one joint: the largest of each
+    /// rule's measure over its limit. Crossed fraction and a turning joint's thickness ratio
+    /// count as they are; when they fail, lost contact of a turning joint counts 1 plus ten times
+    /// its share of steps, a severe overlap change 1 plus five times its excess of bad steps, a
+    /// short slide leaving its parent 1 plus its gap over the allowed one. Failures no change of
+    /// range can mend count 2 plus their excess: an axis clear of the part, a hinge at its
+    /// handle, a short slide across its face. 10 without contact at rest. At most 1 when the
+    /// sweep passes: then the margin to each rule (a short slide's gap growth over the allowed
+    /// one, the axis's distance from the part over the allowed one, the least handle distance
+    /// over the handle's), so a press is preferred to a pull and a hinge across the part from
+    /// its handle to one beside it.
+    #[must_use]
+    pub fn severity(&self, params: &SweepParams) -> f64 {
+        if self.initial_contact_points == 0 {
+            return 10.0;
+        }
+        let steps = self.steps.max(1) as f64;
+        let rotational = self.rotational();
+        let mut s = self.crossed_fraction / params.crossing_fraction_max;
+        if rotational {
+            s = s.max(self.thickness_ratio_p95 / params.thickness_ratio_max);
+        }
+        if self.short_slide_gap_max_m > 0.0 {
+            s = s.max(self.short_slide_gap_growth_m / self.short_slide_gap_max_m);
+        }
+        if self.hinge_to_part_max_m > 0.0 {
+            s = s.max(self.hinge_to_part_m / self.hinge_to_part_max_m);
+        }
+        if let Some(f) = self.handle_reach_fraction {
+            s = s.max(params.hinge_handle_fraction_min / f.max(1e-9));
+        }
+        if self.hinge_lost_contact() {
+            s = s.max(1.0 + 10.0 * self.lost_contact_steps as f64 / steps);
+        }
+        if self.severe_overlap_change(params) {
+            s = s.max(1.0 + 5.0 * (self.bad_overlap_fraction - params.bad_overlap_fraction_max));
+        }
+        if self.short_slide_left_parent() {
+            s = s.max(1.0 + self.short_slide_gap_growth_m / self.short_slide_gap_max_m);
+        }
+        if self.hinge_off_part() {
+            s = s.max(2.0 + self.hinge_to_part_m / self.hinge_to_part_max_m);
+        }
+        if let Some(f) = self.hinge_at_handle(params) {
+            s = s.max(3.0 - f / params.hinge_handle_fraction_min);
+        }
+        if self.short_slide_unheld(params) {
+            let held = (self.short_slide_press / params.short_slide_press_min)
+                .max(self.short_slide_guidance / params.short_slide_guidance_min);
+            s = s.max(3.0 - held);
+        }
+        s
+    }
+
+    /// The joint turns (revolute or continuous).
+    fn rotational(&self) -> bool {
+        matches!(self.kind, JointKind::Revolute | JointKind::Continuous)
+    }
+
+    /// A turning joint's contact changed severely: more than `bad_overlap_fraction_max` of its
+    /// contact steps overlap the rest contact less than `overlap_min`, and its 10th percentile
+    /// does too.
+    fn severe_overlap_change(&self, params: &SweepParams) -> bool {
+        self.rotational()
+            && self.contact_steps > 0
+            && self.bad_overlap_fraction > params.bad_overlap_fraction_max
+            && self.overlap_ratio_p10 < params.overlap_min
+    }
+
+    /// The handle's share of the reach from the axis when it is too near the hinge.
+    fn hinge_at_handle(&self, params: &SweepParams) -> Option<f64> {
+        self.handle_reach_fraction
+            .filter(|&f| f < params.hinge_handle_fraction_min)
+    }
+
+    /// A turning joint's axis runs clear of the parts it turns.
+    fn hinge_off_part(&self) -> bool {
+        self.hinge_to_part_max_m > 0.0 && self.hinge_to_part_m > self.hinge_to_part_max_m
+    }
+
+    /// A short slide neither presses into the face it touches nor slides along guiding walls.
+    fn short_slide_unheld(&self, params: &SweepParams) -> bool {
+        self.short_slide_gap_max_m > 0.0
+            && self.short_slide_press < params.short_slide_press_min
+            && self.short_slide_guidance < params.short_slide_guidance_min
+    }
+
+    /// A short slide moved its part away from its parent by more than it may.
+    fn short_slide_left_parent(&self) -> bool {
+        self.short_slide_gap_max_m > 0.0
+            && self.short_slide_gap_growth_m > self.short_slide_gap_max_m
+    }
+
+    /// A turning joint lost contact with its parent: some step found no contact patch, and the
+    /// axis itself runs away from the parent (a hinge on its parent keeps the part attached
+    /// even where a thick door or a handle swings clear of the parent's surface).
+    fn hinge_lost_contact(&self) -> bool {
+        self.rotational()
+            && self.initial_contact_points > 0
+            && self.lost_contact_steps > 0
+            && self.hinge_to_parent_m > self.contact_reach_m
+    }
+
+    /// The coordinate where the sweep first failed (passed through a part or lost contact), if
+    /// it did at a known step.
+    #[must_use]
+    pub fn failure_coordinate(&self) -> Option<f64> {
+        let lost = self
+            .lost_contact_coordinate
+            .filter(|_| self.hinge_lost_contact());
+        match (self.crossing_coordinate, lost) {
+            (Some(a), Some(b)) => Some(if a.abs() <= b.abs() { a } else { b }),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// The metrics by name, units in the names.
+    #[must_use]
+    pub fn as_map(&self) -> BTreeMap<String, f64> {
+        let entries = [
+            ("steps", self.steps as f64),
+            ("initial_contact_points", self.initial_contact_points as f64),
+            ("contact_threshold_m", self.contact_threshold_m),
+            ("contact_steps", self.contact_steps as f64),
+            ("lost_contact_steps", self.lost_contact_steps as f64),
+            ("thickness_ratio_p95", self.thickness_ratio_p95),
+            ("overlap_ratio_p10", self.overlap_ratio_p10),
+            ("bad_overlap_fraction", self.bad_overlap_fraction),
+            ("max_penetration_growth_m", self.max_penetration_growth_m),
+            ("mean_penetration_growth_m", self.mean_penetration_growth_m),
+            ("penetrating_steps", self.penetrating_steps as f64),
+            ("penetration_tolerance_m", self.penetration_tolerance_m),
+            ("worst_coordinate", self.worst_coordinate),
+            ("clear_points", self.clear_points as f64),
+            ("crossed_points", self.crossed_points as f64),
+            ("crossed_fraction", self.crossed_fraction),
+            ("hinge_to_parent_m", self.hinge_to_parent_m),
+            ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
+            ("hinge_to_part_m", self.hinge_to_part_m),
+            ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
+            ("short_slide_press", self.short_slide_press),
+            ("short_slide_guidance", self.short_slide_guidance),
+        ];
+        entries
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), v))
+            .chain(
+                self.handle_reach_fraction
+                    .map(|f| ("handle_reach_fraction".to_owned(), f)),
+            )
+            .collect()
+    }
+}
