@@ -201,15 +201,25 @@ pub fn band_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3; 3]) ->
                 };
                 for x in spread((b_lo[0], b_hi[0])) {
                     for y in spread((b_lo[1], b_hi[1])) {
-                        let p = axis * middle + u * x + v * y;
-                        if out.iter().all(|q| {
-                            (*q - p).reject_from_normalized(axis).length() > 5e-3 * diagonal
-                        }) {
-                            out.push(p);
-                        }
+                        out.push(axis * middle + u * x + v * y);
                     }
                 }
             }
+        }
+    }
+    distinct_lines(&out, axis, 5e-3 * diagonal)
+}
+
+/// The first of `pivots` on each distinct line along `axis`: a pivot within `min_apart_m` of a
+/// line already kept is on it.
+pub(crate) fn distinct_lines(pivots: &[DVec3], axis: DVec3, min_apart_m: f64) -> Vec<DVec3> {
+    let mut out: Vec<DVec3> = Vec::new();
+    for p in pivots {
+        if out
+            .iter()
+            .all(|q| (*p - *q).reject_from_normalized(axis).length() > min_apart_m)
+        {
+            out.push(*p);
         }
     }
     out

@@ -12,7 +12,7 @@ use uniphys_geometry::{DVec3, box_axes, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
-use crate::candidates::{articulation_candidates, band_pivots, edge_pivots};
+use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
 use crate::held::{contact_normal_tensor, slide_touch_m};
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
@@ -188,9 +188,11 @@ fn tiers(
         return tiers;
     }
 
+    let moving_points = scene.points_of(moving);
+    let parent_points = scene.points_of(&[joint.parent.0 as usize]);
     let candidates = articulation_candidates(
-        &scene.points_of(moving),
-        &scene.points_of(&[joint.parent.0 as usize]),
+        &moving_points,
+        &parent_points,
         part_axes,
         scene.diagonal_m,
         &params.patch,
@@ -200,18 +202,14 @@ fn tiers(
     let mut pivots: Vec<DVec3> = candidates
         .as_ref()
         .map_or_else(Vec::new, |c| c.pivots.clone());
-    pivots.extend(edge_pivots(
-        &child_points,
-        &scene.points_of(&[joint.parent.0 as usize]),
-        part_axes,
-    ));
+    pivots.extend(edge_pivots(&child_points, &parent_points, part_axes));
     if joint.kind != JointKind::Prismatic {
-        pivots.extend(band_pivots(&scene.points_of(moving), axis, part_axes));
+        pivots.extend(band_pivots(&moving_points, axis, part_axes));
     }
 
     // 3. Another pivot on the same axis: the same way first, then reversed.
     if joint.kind != JointKind::Prismatic {
-        let moved: Vec<DVec3> = distinct_lines(&pivots, axis, scene.diagonal_m)
+        let moved: Vec<DVec3> = distinct_lines(&pivots, axis, 1e-3 * scene.diagonal_m)
             .into_iter()
             .filter(|p| {
                 (*p - pivot).reject_from_normalized(axis).length() > 1e-3 * scene.diagonal_m
@@ -233,7 +231,6 @@ fn tiers(
     // axis of walls around it (a press, a guided slide), then the candidates from the contact
     // and the part's box.
     let contact_axes: Vec<DVec3> = if joint.kind == JointKind::Prismatic {
-        let moving_points = scene.points_of(moving);
         let touch_m = slide_touch_m(params, &moving_points);
         contact_normal_tensor(scene, joint.parent.0 as usize, &moving_points, touch_m)
             .map(|tensor| {
@@ -272,7 +269,7 @@ fn tiers(
         }
         JointKind::Prismatic => {
             let quarter = std::f64::consts::FRAC_PI_2;
-            for p in distinct_lines(&pivots, axis, scene.diagonal_m) {
+            for p in distinct_lines(&pivots, axis, 1e-3 * scene.diagonal_m) {
                 for (l, h) in [(0.0, quarter), (-quarter, 0.0)] {
                     tier.push(Variant {
                         joint: with(JointKind::Revolute, axis, p, range(l, h)),
@@ -320,20 +317,6 @@ fn axis_variants(
                 joint: make(a),
                 change: format!("axis changed to ({:.3}, {:.3}, {:.3})", a.x, a.y, a.z),
             });
-        }
-    }
-    out
-}
-
-/// The pivots that lie on distinct lines along `axis` (closer than 0.1 % of the diagonal: one).
-fn distinct_lines(pivots: &[DVec3], axis: DVec3, diagonal_m: f64) -> Vec<DVec3> {
-    let mut out: Vec<DVec3> = Vec::new();
-    for p in pivots {
-        if out
-            .iter()
-            .all(|q| (*p - *q).reject_from_normalized(axis).length() > 1e-3 * diagonal_m)
-        {
-            out.push(*p);
         }
     }
     out

@@ -12,6 +12,7 @@
 
 use uniphys_geometry::{Aabb, DVec3, KdTree};
 
+use crate::held::mean;
 use crate::part_box::PartBox;
 
 /// A part is a panel (a slab with an outer face that can carry a handle) when its thinnest box
@@ -131,11 +132,6 @@ fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
     (SHARE_RANGE.0..=SHARE_RANGE.1)
         .contains(&share)
         .then_some(standing)
-}
-
-/// The mean of `points` (zero for none).
-fn mean(points: &[DVec3]) -> DVec3 {
-    points.iter().sum::<DVec3>() / points.len().max(1) as f64
 }
 
 /// A hinge runs along a panel's edge when its axis is this far at most from the panel's plane

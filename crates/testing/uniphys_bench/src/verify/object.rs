@@ -173,11 +173,12 @@ fn nearest_pivot(
     joint: &Joint,
     child_points: &[DVec3],
 ) -> Option<f64> {
-    let moving = moving_group(joints, joint.child);
+    let moving_points = scene.points_of(&moving_group(joints, joint.child));
+    let parent_points = scene.points_of(&[joint.parent.0 as usize]);
     let part_axes = box_axes(child_points);
     let mut pivots = articulation_candidates(
-        &scene.points_of(&moving),
-        &scene.points_of(&[joint.parent.0 as usize]),
+        &moving_points,
+        &parent_points,
         part_axes,
         scene.diagonal_m,
         &PatchParams::default(),
@@ -185,13 +186,9 @@ fn nearest_pivot(
     )
     .map(|c| c.pivots)
     .unwrap_or_default();
-    pivots.extend(edge_pivots(
-        child_points,
-        &scene.points_of(&[joint.parent.0 as usize]),
-        part_axes,
-    ));
+    pivots.extend(edge_pivots(child_points, &parent_points, part_axes));
     let axis = DVec3::from_array(joint.axis_in_object);
-    pivots.extend(band_pivots(&scene.points_of(&moving), axis, part_axes));
+    pivots.extend(band_pivots(&moving_points, axis, part_axes));
     let on = DVec3::from_array(joint.pivot_in_object_m);
     pivots
         .iter()
