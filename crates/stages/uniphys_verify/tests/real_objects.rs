@@ -7,7 +7,7 @@ use uniphys_examples::shared_partnet_object;
 use uniphys_geometry::{ConvexParams, DVec3, TriMesh, convex_decomposition};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
-use uniphys_verify::{Scene, SweepParams, parallel_map, verify_joint};
+use uniphys_verify::{JointVerdict, Scene, SweepParams, parallel_map, verify_joint};
 
 struct Object {
     scene: Scene,
@@ -46,7 +46,7 @@ impl Object {
     }
 
     /// Verifies joint `i` of `joints` (correction on).
-    fn verify(&self, joints: &[Joint], i: usize) -> uniphys_verify::JointVerdict {
+    fn verify(&self, joints: &[Joint], i: usize) -> JointVerdict {
         verify_joint(&self.scene, joints, i, &SweepParams::default(), true).expect("verify")
     }
 
@@ -55,6 +55,31 @@ impl Object {
         let mut joints = self.joints.clone();
         joints[i] = broken;
         joints
+    }
+
+    /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
+    fn caught(&self, i: usize, broken: Joint) -> JointVerdict {
+        let verdict = self.verify(&self.with(i, broken), i);
+        assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+        verdict
+    }
+}
+
+/// `truth` with its axis turned a quarter ([`quarter_turned`]).
+fn sideways(truth: &Joint) -> Joint {
+    Joint {
+        axis_in_object: quarter_turned(truth.axis_in_object),
+        ..truth.clone()
+    }
+}
+
+/// A correction, if the verdict made one, may only give back the true axis (within 2 degrees).
+fn assert_correction_keeps_true_axis(verdict: &JointVerdict, truth: &Joint) {
+    if let Some((fixed, _)) = &verdict.correction {
+        assert!(
+            line_angle_deg(fixed.axis_in_object, truth.axis_in_object) < 2.0,
+            "{fixed:?}"
+        );
     }
 }
 
@@ -129,8 +154,7 @@ fn a_microwave_door_swinging_inward_is_caught_and_reversed() {
     let o = object("kitchen-7236");
     let i = o.movable()[0];
     let truth = o.joints[i].clone();
-    let verdict = o.verify(&o.with(i, reversed(&truth)), i);
-    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    let verdict = o.caught(i, reversed(&truth));
     assert!(
         verdict.message.contains("passes through"),
         "{}",
@@ -147,22 +171,13 @@ fn a_drawer_pushed_in_or_sliding_sideways_is_caught_and_put_back() {
     let i = o.movable()[0];
     let truth = o.joints[i].clone();
     // Pushed into the table instead of pulled out.
-    let verdict = o.verify(&o.with(i, reversed(&truth)), i);
-    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    let verdict = o.caught(i, reversed(&truth));
     let (fixed, _) = verdict.correction.expect("corrected");
     assert_eq!(fixed.limits, truth.limits);
-    // Sliding along an axis a quarter turn from the true one.
-    let mut sideways = truth.clone();
-    sideways.axis_in_object = quarter_turned(truth.axis_in_object);
-    let verdict = o.verify(&o.with(i, sideways), i);
-    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
-    if let Some((fixed, _)) = verdict.correction {
-        // A correction may only give back the drawer's own direction.
-        assert!(
-            line_angle_deg(fixed.axis_in_object, truth.axis_in_object) < 2.0,
-            "{fixed:?}"
-        );
-    }
+    // Sliding along an axis a quarter turn from the true one: a correction may only give back
+    // the drawer's own direction.
+    let verdict = o.caught(i, sideways(&truth));
+    assert_correction_keeps_true_axis(&verdict, &truth);
 }
 
 // These true joints failed before the sweep judged a crossing by its depth across the crossed
@@ -200,22 +215,14 @@ fn a_button_slid_across_its_face_is_caught() {
     assert!(!buttons.is_empty(), "the dishwasher has buttons");
     for i in buttons {
         let truth = o.joints[i].clone();
-        let mut sideways = truth.clone();
-        sideways.axis_in_object = quarter_turned(truth.axis_in_object);
-        let verdict = o.verify(&o.with(i, sideways), i);
-        assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+        let verdict = o.caught(i, sideways(&truth));
         assert!(
             verdict.message.contains("across the face it sits on"),
             "{}",
             verdict.message
         );
-        if let Some((fixed, _)) = verdict.correction {
-            // A correction may only move it along the face's normal, the true axis.
-            assert!(
-                line_angle_deg(fixed.axis_in_object, truth.axis_in_object) < 2.0,
-                "{fixed:?}"
-            );
-        }
+        // A correction may only move it along the face's normal, the true axis.
+        assert_correction_keeps_true_axis(&verdict, &truth);
     }
 }
 
@@ -229,10 +236,7 @@ fn a_door_turned_about_a_line_clear_of_it_is_caught() {
         .into_iter()
         .find(|&i| o.joints[i].name == "joint_0")
         .expect("joint_0");
-    let mut turned = o.joints[i].clone();
-    turned.axis_in_object = quarter_turned(turned.axis_in_object);
-    let verdict = o.verify(&o.with(i, turned), i);
-    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    let verdict = o.caught(i, sideways(&o.joints[i]));
     assert!(
         verdict.message.contains("nothing holds it"),
         "{}",
@@ -253,8 +257,7 @@ fn a_door_hinged_beside_its_handle_is_caught_and_hinged_across_from_it() {
     let mut opposite = truth.clone();
     opposite.pivot_in_object_m =
         (pivot - 2.0 * (pivot - centre).reject_from_normalized(axis)).to_array();
-    let verdict = o.verify(&o.with(i, opposite), i);
-    assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
+    let verdict = o.caught(i, opposite);
     assert!(
         verdict.message.contains("hinged at its handle"),
         "{}",
