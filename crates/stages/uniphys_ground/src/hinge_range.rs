@@ -11,7 +11,9 @@
 //!   quarter turn at most: the stop of a door's hinges, which an object standing alone cannot
 //!   show (a door of a hollow cabinet could otherwise swing into it);
 //! - another broad sheet (a laptop screen, a lid propped open) closes until it meets its parent
-//!   and opens at most 135 degrees from there (past upright, where such hinges stop);
+//!   or first lies on a face of its parent's box (a lid over an open box meets only the rim,
+//!   flush, and the sweep sees nothing stop it there), and opens at most 135 degrees from there
+//!   (past upright, where such hinges stop);
 //! - anything else (a wire such as a bucket handle, a knife's blade, a lever) turns both ways
 //!   until it collides;
 //! - where the free turns either way overlap, so that nothing the sweep sees stops it, the range
@@ -19,7 +21,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use uniphys_geometry::{DVec3, projection_range};
+use uniphys_geometry::{DQuat, DVec3, projection_range};
 use uniphys_types::{Joint, JointLimits};
 use uniphys_verify::{Scene, SweepParams, parallel_map, sweep};
 
@@ -37,6 +39,8 @@ const SHEET_FILL_MIN: f64 = 0.3;
 /// A panel open at rest opens this far from where it closes (135 degrees: past upright, where a
 /// laptop's or a box lid's hinge stops).
 const OPEN_FROM_CLOSED_RAD: f64 = 0.75 * PI;
+/// Angles at which a panel open at rest is tried closed onto its parent's face (2 degrees).
+const CLOSING_STEP_RAD: f64 = PI / 90.0;
 /// A panel lies on a face of its parent's box when its thin axis is within this angle of the
 /// face's normal (cosine of 15 degrees) ...
 const ON_FACE_COS: f64 = 0.965_925_8;
@@ -109,6 +113,10 @@ pub(crate) fn hinge_range(
             "nothing seen stops it either way: the search's range",
         );
     } else if sheet && broad {
+        // Closed where it first lies on a face of its parent's box, if the sweep lets it turn
+        // so far: a lid over an open box meets only the rim, flush, and nothing stops it there.
+        let closes =
+            lies_on_parent(child_points, pivot, open_axis, closes, parent).unwrap_or(closes);
         (
             open_axis,
             closes,
@@ -155,13 +163,58 @@ pub(crate) fn hinge_range(
         .unwrap_or_else(|| choices[0].clone())
 }
 
+/// The smallest turn, up to `max_rad`, that closes a panel onto a face of its parent's box: the
+/// panel turned back about `open_axis` through `pivot` by growing angles lies on the face
+/// ([`on_parent_face`]), taken where its thin axis is best aligned with the face's normal
+/// within the first stretch of angles that do. `None` when no turn up to `max_rad` does.
+fn lies_on_parent(
+    child_points: &[DVec3],
+    pivot: DVec3,
+    open_axis: DVec3,
+    max_rad: f64,
+    parent: &PartBox,
+) -> Option<f64> {
+    let steps = (max_rad / CLOSING_STEP_RAD).floor() as usize;
+    let mut best: Option<(f64, f64)> = None;
+    for i in 1..=steps {
+        let angle = i as f64 * CLOSING_STEP_RAD;
+        let turn = DQuat::from_axis_angle(open_axis, -angle);
+        let turned: Vec<DVec3> = child_points
+            .iter()
+            .map(|p| pivot + turn * (*p - pivot))
+            .collect();
+        let part = PartBox::of(&turned);
+        if !on_parent_face(&turned, &part, parent) {
+            if best.is_some() {
+                break;
+            }
+            continue;
+        }
+        let thin = part.axes[thinnest_axis(&part)];
+        let alignment = parent
+            .axes
+            .iter()
+            .map(|a| a.dot(thin).abs())
+            .fold(0.0, f64::max);
+        if best.is_none_or(|(_, b)| alignment > b) {
+            best = Some((angle, alignment));
+        }
+    }
+    best.map(|(angle, _)| angle)
+}
+
+/// The index of a box's thinnest axis.
+fn thinnest_axis(part: &PartBox) -> usize {
+    (0..3)
+        .min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))
+        .unwrap_or(0)
+}
+
 /// Whether a panel lies on a face of its parent's box: its thin axis along the face's normal, its
 /// middle near the face (an inset door just inside it, an overlay door just outside) and over
 /// it (not beside it, as a door swung open).
 fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> bool {
-    let thin = (0..3)
-        .min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))
-        .unwrap_or(0);
+    let thin = thinnest_axis(part);
     (0..3).any(|k| {
         let normal = parent.axes[k];
         if part.axes[thin].dot(normal).abs() < ON_FACE_COS {
@@ -214,5 +267,22 @@ mod tests {
         // A blade folded into the middle of its handle lies on no face.
         let blade = grid(DVec3::new(0.24, 0.05, 0.1), DVec3::new(0.26, 0.55, 0.9));
         assert!(!on_parent_face(&blade, &PartBox::of(&blade), &body));
+    }
+
+    #[test]
+    fn a_lid_standing_at_the_back_rim_closes_when_it_lies_on_the_top() {
+        // A box 1 x 1 x 0.6 with its lid standing up along its back edge (x = 0).
+        let body = PartBox::of(&grid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.6)));
+        let lid = grid(DVec3::new(0.0, 0.0, 0.6), DVec3::new(0.02, 1.0, 1.6));
+        let pivot = DVec3::new(0.0, 0.5, 0.6);
+        // It opens by turning its top away from the box (towards -x): about -y.
+        let closes = lies_on_parent(&lid, pivot, -DVec3::Y, PI, &body).expect("it closes");
+        assert!(
+            (closes - FRAC_PI_2).abs() <= CLOSING_STEP_RAD,
+            "closes {:.1} deg",
+            closes.to_degrees()
+        );
+        // Turned back only 60 degrees, it lies on no face.
+        assert!(lies_on_parent(&lid, pivot, -DVec3::Y, PI / 3.0, &body).is_none());
     }
 }
