@@ -190,7 +190,7 @@ fn lies_on_parent(
             }
             continue;
         }
-        let thin = part.axes[thinnest_axis(&part)];
+        let thin = part.axes[part.thinnest_axis()];
         let alignment = parent
             .axes
             .iter()
@@ -203,18 +203,11 @@ fn lies_on_parent(
     best.map(|(angle, _)| angle)
 }
 
-/// The index of a box's thinnest axis.
-fn thinnest_axis(part: &PartBox) -> usize {
-    (0..3)
-        .min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))
-        .unwrap_or(0)
-}
-
 /// Whether a panel lies on a face of its parent's box: its thin axis along the face's normal, its
 /// middle near the face (an inset door just inside it, an overlay door just outside) and over
 /// it (not beside it, as a door swung open).
 fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> bool {
-    let thin = thinnest_axis(part);
+    let thin = part.thinnest_axis();
     (0..3).any(|k| {
         let normal = parent.axes[k];
         if part.axes[thin].dot(normal).abs() < ON_FACE_COS {

@@ -55,7 +55,7 @@ fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
         return None;
     }
     let part = PartBox::of(points);
-    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    let thin = part.thinnest_axis();
     // Only a slab has an outer face (not a cap, a knob).
     if !is_panel(&part) {
         return None;
@@ -166,7 +166,7 @@ pub(crate) fn handle_reach_fraction(
     }
     let axis = axis.normalize_or_zero();
     let part = PartBox::of(child);
-    let thin = (0..3).min_by(|&a, &b| part.extent(a).total_cmp(&part.extent(b)))?;
+    let thin = part.thinnest_axis();
     if part.axes[thin].dot(axis).abs() > IN_PLANE_COS_MAX {
         return None;
     }

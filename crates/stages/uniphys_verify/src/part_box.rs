@@ -43,6 +43,14 @@ impl PartBox {
         (self.ranges[k].1 - self.ranges[k].0).max(0.0)
     }
 
+    /// The index of the thinnest axis (the first of equally thin ones).
+    #[must_use]
+    pub fn thinnest_axis(&self) -> usize {
+        (0..3)
+            .min_by(|&a, &b| self.extent(a).total_cmp(&self.extent(b)))
+            .unwrap_or(0)
+    }
+
     /// Extents sorted from thinnest to thickest.
     #[must_use]
     pub fn sorted_extents(&self) -> [f64; 3] {
