@@ -35,23 +35,56 @@ pub fn principal_axes(points: &[DVec3]) -> [DVec3; 3] {
 /// Edge directions of a tight box around the points: for each principal axis taken as the box's
 /// normal, the in-plane rotation with the smallest bounding rectangle (0.5 degree steps over a
 /// half turn from the next principal axis, then refined by ternary search); the box of smallest
-/// volume wins. Unlike the principal axes this
-/// finds the edges of square slabs (a square door), whose in-plane principal axes are arbitrary.
-/// Returns `[normal, first edge, second edge]`, unit and orthogonal.
+/// volume wins. Then the same search about each edge of the box found, while the box shrinks (a
+/// few rounds): a part whose principal axes lean (a table whose drawer or legs are not
+/// symmetric) gets the box of its faces, not one tilted a few degrees with its principal axis.
+/// Unlike the principal axes this finds the edges of square slabs (a square door), whose
+/// in-plane principal axes are arbitrary. Returns `[normal, first edge, second edge]`, unit and
+/// orthogonal.
 #[must_use]
 pub fn box_axes(points: &[DVec3]) -> [DVec3; 3] {
     let principal = principal_axes(points);
     if points.len() < 3 {
         return principal;
     }
+    let first = tightest_about(points, principal);
+    let mut best = first;
+    for _ in 0..BOX_REFINE_ROUNDS {
+        let next = tightest_about(points, best.1);
+        if next.0 >= best.0 * (1.0 - 1e-9) {
+            break;
+        }
+        best = next;
+    }
+    // In the order and with the signs of the first box's edges when it turned less than 30
+    // degrees (each edge then has one nearest), so that refining a box that barely moves does
+    // not reorder what its axes are used for.
+    let nearest = first.1.map(|a| {
+        best.1
+            .into_iter()
+            .map(|b| if b.dot(a) < 0.0 { -b } else { b })
+            .max_by(|x, y| x.dot(a).total_cmp(&y.dot(a)))
+            .filter(|b| b.dot(a) > (std::f64::consts::PI / 6.0).cos())
+    });
+    match nearest {
+        [Some(a), Some(b), Some(c)] => [a, b, c],
+        _ => best.1,
+    }
+}
+
+/// Rounds of [`box_axes`]' search about the edges of the box found so far.
+const BOX_REFINE_ROUNDS: usize = 3;
+
+/// The smallest box (its volume and axes) turned about one of `normals`, each in its plane.
+fn tightest_about(points: &[DVec3], normals: [DVec3; 3]) -> (f64, [DVec3; 3]) {
     let extent = |d: DVec3| {
         let (lo, hi) = projection_range(points, d);
         hi - lo
     };
     let mut best: Option<(f64, [DVec3; 3])> = None;
-    for (k, normal) in principal.into_iter().enumerate() {
-        // Start at the next principal axis: an axis-aligned box is found at angle 0 exactly.
-        let start = principal[(k + 1) % 3];
+    for (k, normal) in normals.into_iter().enumerate() {
+        // Start at the next axis: the box of `normals` itself is found at angle 0 exactly.
+        let start = normals[(k + 1) % 3];
         let depth = extent(normal).max(1e-12);
         let frame = |angle: f64| {
             let u = DQuat::from_axis_angle(normal, angle) * start;
@@ -83,7 +116,7 @@ pub fn box_axes(points: &[DVec3]) -> [DVec3; 3] {
             }
         }
     }
-    best.map_or(principal, |(_, axes)| axes)
+    best.unwrap_or((f64::INFINITY, normals))
 }
 
 #[cfg(test)]
@@ -117,5 +150,37 @@ mod tests {
         let edge = turn * DVec3::X;
         let best = u.dot(edge).abs().max(v.dot(edge).abs());
         assert!(best > (0.5f64).to_radians().cos(), "{u} {v} vs {edge}");
+    }
+
+    #[test]
+    fn box_axes_of_a_table_with_one_leg_follow_its_faces_not_its_leaning_principal_axes() {
+        // A 1 x 0.6 top over a single leg at one corner: the points' principal axes lean
+        // toward the leg, the box of the faces does not.
+        let mut points = Vec::new();
+        for i in 0..=20 {
+            for j in 0..=12 {
+                for z in [0.70, 0.75] {
+                    points.push(DVec3::new(f64::from(i) * 0.05, f64::from(j) * 0.05, z));
+                }
+            }
+        }
+        for k in 0..=140 {
+            let z = f64::from(k) * 0.005;
+            for (x, y) in [(0.0, 0.0), (0.05, 0.0), (0.0, 0.05), (0.05, 0.05)] {
+                points.push(DVec3::new(x, y, z));
+            }
+        }
+        let lean = principal_axes(&points)
+            .iter()
+            .map(|a| a.dot(DVec3::Z).abs())
+            .fold(0.0, f64::max);
+        assert!(lean < 1f64.to_radians().cos(), "principal axes lean {lean}");
+        for axis in box_axes(&points) {
+            let aligned = [DVec3::X, DVec3::Y, DVec3::Z]
+                .iter()
+                .map(|e| axis.dot(*e).abs())
+                .fold(0.0, f64::max);
+            assert!(aligned > 0.1f64.to_radians().cos(), "{axis}");
+        }
     }
 }
