@@ -59,30 +59,11 @@ pub(crate) fn hinge_range(
     child_points: &[DVec3],
 ) -> (Joint, &'static str) {
     let axis = DVec3::from_array(hinge.axis_in_object);
-    let sides = [axis, -axis].map(|a| {
-        let mut j = hinge.clone();
-        j.axis_in_object = a.to_array();
-        j.limits = Some(JointLimits {
-            lower: 0.0,
-            upper: TAU,
-        });
-        j
-    });
-    let params = SweepParams {
-        steps: RANGE_STEPS,
-        ..SweepParams::default()
-    };
-    let step = TAU / (RANGE_STEPS - 1) as f64;
-    let free = parallel_map(&sides, |j| {
-        let m = sweep(scene, j, mover.moving, &params).ok()?;
-        Some(
-            m.failure_coordinate()
-                .map_or(TAU, |q| (q.abs() - step).max(0.0)),
-        )
-    });
-    let (Some(forward), Some(backward)) = (free[0], free[1]) else {
+    let Some(turns) = free_turns(scene, mover, hinge) else {
         return (hinge.clone(), "range kept from the search");
     };
+    let (forward, backward) = (turns.forward, turns.backward);
+    let params = range_params();
     let [_, middle, longest] = part.sorted_extents();
     let sheet = scene.area_m2(mover.child) >= SHEET_FILL_MIN * 2.0 * middle * longest;
     let broad = middle >= BROAD_RATIO * longest;
@@ -102,7 +83,7 @@ pub(crate) fn hinge_range(
             opens.min(FRAC_PI_2),
             "closed on its parent's face: opens outward, a quarter turn at most (a hinge's stop)",
         )
-    } else if forward + backward > TAU + 2.0 * step {
+    } else if turns.unbounded() {
         // The free turns either way overlap: a pose reached freely one way is where the other
         // way stopped, so the sweep cannot see what stops it (a blade folded inside its handle
         // has no surface clear of it to collide with). Stops that meet, one step short of each
@@ -161,6 +142,57 @@ pub(crate) fn hinge_range(
         .find(|(j, _)| passes(j))
         .cloned()
         .unwrap_or_else(|| choices[0].clone())
+}
+
+/// How far a hinge turns freely each way from rest, radians (each one step short of where the
+/// sweep first fails, a full turn when nothing stops it), and the sweep's step.
+pub(crate) struct FreeTurns {
+    pub forward: f64,
+    pub backward: f64,
+    pub step: f64,
+}
+
+impl FreeTurns {
+    /// Whether the free turns either way overlap: nothing the sweep sees stops the part.
+    pub(crate) fn unbounded(&self) -> bool {
+        self.forward + self.backward > TAU + 2.0 * self.step
+    }
+}
+
+/// The sweep settings of the range sweeps: a full turn in [`RANGE_STEPS`] steps.
+fn range_params() -> SweepParams {
+    SweepParams {
+        steps: RANGE_STEPS,
+        ..SweepParams::default()
+    }
+}
+
+/// The hinge swept each way up to a full turn; `None` when a sweep cannot run.
+pub(crate) fn free_turns(scene: &Scene, mover: &Mover<'_>, hinge: &Joint) -> Option<FreeTurns> {
+    let axis = DVec3::from_array(hinge.axis_in_object);
+    let sides = [axis, -axis].map(|a| {
+        let mut j = hinge.clone();
+        j.axis_in_object = a.to_array();
+        j.limits = Some(JointLimits {
+            lower: 0.0,
+            upper: TAU,
+        });
+        j
+    });
+    let params = range_params();
+    let step = TAU / (RANGE_STEPS - 1) as f64;
+    let free = parallel_map(&sides, |j| {
+        let m = sweep(scene, j, mover.moving, &params).ok()?;
+        Some(
+            m.failure_coordinate()
+                .map_or(TAU, |q| (q.abs() - step).max(0.0)),
+        )
+    });
+    Some(FreeTurns {
+        forward: free[0]?,
+        backward: free[1]?,
+        step,
+    })
 }
 
 /// The smallest turn, up to `max_rad`, that closes a panel onto a face of its parent's box: the

@@ -15,6 +15,7 @@
 //!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
 //!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge away from
 //!   their handle (`handle`: what stands out of the outer face against the face around it),
+//!   parts held by one small flat patch twist about its normal (`stem`),
 //!   parts in an opening slide; a slide's range is its free travel, a hinge's comes from sweeping it both
 //!   ways with the stops real hinges have (`hinge_range`); otherwise part names say which parts
 //!   slide or turn and the joint of each is chosen by sweeping hypotheses (`hypotheses`:
@@ -35,6 +36,7 @@ mod object;
 mod roles;
 mod small_part;
 mod spin;
+mod stem;
 mod tree;
 mod unnamed;
 mod wall;

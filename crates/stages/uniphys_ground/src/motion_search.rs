@@ -8,16 +8,21 @@
 //!    its parent along the normal of the face it sits on (a button or a key); one that is not
 //!    round but stands out of the face by 40 % of its width or more is a knob with a grip and
 //!    turns about that normal ([`crate::small_part`]).
-//! 3. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
+//! 3. **Twist**: a part held by one small flat patch of contact (a stem: a faucet's lever, a
+//!    blade on its pin) twists about the patch's normal through its middle when that turn is
+//!    free by 30 degrees or more ([`crate::stem`]).
+//! 4. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
 //!    corners, edge and face middles and centre, both directions) and every slide along a box axis
-//!    is swept outward from rest. Each gets its free range: how far it moves before it passes
+//!    (its parent's box axis when within 5 degrees of it) is swept outward from rest. Each gets its free range: how far it moves before it passes
 //!    through another part, or (a hinge) its axis leaves the parent, or (a slide) it loses
 //!    contact with the parent.
 //!    - A part that is not a thin panel (thickness at least 15 % of its width) and lies mostly
 //!      inside its parent's box (a drawer, a tray) slides when it can slide out of its opening:
-//!      along the box axis in which its parent encloses it least, in which it is deep (at least
-//!      15 % of its longest extent, and not a slab's thickness), keeping touching the parent over
-//!      30 % of that depth. Else it hinges when some hinge turns it freely by 30 degrees or more.
+//!      along a box axis in which its parent encloses it least (within 5 % of its length of
+//!      the least), in which it is deep (at least 15 % of its longest extent, and not a slab's
+//!      thickness), keeping touching the parent over half that depth; of those, the one that
+//!      comes out the most of its depth, less how far the parent encloses it that way.
+//!      Else it hinges when some hinge turns it freely by 30 degrees or more.
 //!    - A thin panel (a door, a lid, a screen) or a part outside its parent (a handle) hinges
 //!      first, then slides, by the same tests.
 //!    - A part that can do neither is fixed.
@@ -40,6 +45,7 @@ use crate::hinge_range::hinge_range;
 use crate::hypotheses::{extent_along, mean};
 use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
+use crate::stem::{stem, twist_joint};
 
 /// A part whose box diagonal is under this fraction of its parent's is pushed (a button).
 const SMALL_PART_FRACTION: f64 = 0.2;
@@ -61,7 +67,7 @@ const HINGE_SWEEP_RAD: f64 = PI;
 /// A hinge must turn freely at least this far to count, radians (30 degrees).
 const HINGE_FREE_MIN_RAD: f64 = std::f64::consts::FRAC_PI_6;
 /// A slide must keep touching its parent over at least this share of the part's depth along it.
-const SLIDE_FREE_MIN_FRACTION: f64 = 0.3;
+const SLIDE_FREE_MIN_FRACTION: f64 = 0.5;
 /// A part slides only along a direction in which it is at least this deep, as a share of its
 /// longest extent (a drawer's depth, not a door's thickness).
 const SLIDE_DEPTH_MIN_FRACTION: f64 = 0.15;
@@ -79,6 +85,14 @@ const HINGE_END_FRACTION: f64 = 0.15;
 /// hinge's score: a handle is put where it gives the most leverage, at the edge across from the
 /// hinge, so it outweighs the long-edge tie-break (0.3).
 const HANDLE_WEIGHT: f64 = 1.0;
+/// A slide along a part's box axis within this angle of one of its parent's box axes (cosine of
+/// 5 degrees) runs along the parent's.
+const SLIDE_SNAP_COS: f64 = 0.996_194_7;
+/// Slides whose parent reaches past the part by at most this share of the part's length more
+/// than along the least enclosed slide are ways out of its opening (a drawer's front and a
+/// side flush with its table's; not a door's face, which stands proud of its cabinet while its
+/// edges are flush with the cabinet's).
+const OPENING_SLACK_FRACTION: f64 = 0.05;
 /// Steps of each candidate's sweep.
 const STEPS: usize = 16;
 
@@ -149,12 +163,28 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
             part.diagonal / parent_diagonal.max(1e-12),
         );
     }
-    let hypotheses = hypotheses(mover, part);
+    let touch_m = TOUCH_FRACTION * scene.diagonal_m;
+    // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
+    // screen's lower edge), and a small flat patch of it is a stem the part may twist on.
+    let touching = touching(scene, mover.parent, &child_points, touch_m);
+    let mut hypotheses = hypotheses(mover, part);
+    let box_lines = hypotheses.len();
+    if let Some(stem) = stem(&touching, part) {
+        for sign in [1.0, -1.0] {
+            hypotheses.push(joint(
+                mover,
+                JointKind::Revolute,
+                stem.normal * sign,
+                stem.centre,
+                Some(HINGE_SWEEP_RAD),
+                "twist about the stem it is held by, chosen by its free sweep".to_owned(),
+            ));
+        }
+    }
     let params = SweepParams {
         steps: STEPS,
         ..SweepParams::default()
     };
-    let touch_m = TOUCH_FRACTION * scene.diagonal_m;
     let swept = parallel_map(&hypotheses, |j| {
         let metrics = sweep(scene, j, mover.moving, &params).ok()?;
         let supported = (j.kind == JointKind::Prismatic)
@@ -169,29 +199,40 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         &child_points,
         part.centre - mean(&parent_points),
     );
-    // Where the part touches its parent: a hinge runs through it (a bucket handle's two ends, a
-    // screen's lower edge).
-    let touching = touching(scene, mover.parent, &child_points, touch_m);
     let parent_box = &mover.boxes[mover.parent];
     let inside = inside_share(&child_points, parent_box);
     let longest = part.sorted_extents()[2].max(1e-12);
     let mut hinges = Vec::new();
+    let mut twists = Vec::new();
     let mut slides = Vec::new();
-    for (joint, metrics) in hypotheses.into_iter().zip(swept) {
+    for (index, (joint, metrics)) in hypotheses.into_iter().zip(swept).enumerate() {
+        let twist = index >= box_lines;
         let Some((m, supported)) = metrics.filter(|(m, _)| m.initial_contact_points > 0) else {
             continue;
         };
         let upper = joint.limits.map_or(0.0, |l| l.upper);
         let free = free_range(&m, upper).min(supported.unwrap_or(f64::INFINITY));
         let axis = DVec3::from_array(joint.axis_in_object);
-        if joint.kind == JointKind::Prismatic {
-            // Out of the opening: the direction in which the parent encloses the part the least.
-            let margin = support(&parent_points, axis) - support(&child_points, axis);
-            slides.push(Candidate {
-                score: -margin,
+        if twist {
+            // Both ways about the stem's line: the freer one is the candidate.
+            twists.push(Candidate {
+                score: free,
                 free,
                 joint,
             });
+        } else if joint.kind == JointKind::Prismatic {
+            // How far the parent reaches past the part that way: an opening's way out has
+            // (nearly) none.
+            let margin = support(&parent_points, axis) - support(&child_points, axis);
+            let depth = extent_along(&child_points, axis).max(1e-12);
+            slides.push((
+                Candidate {
+                    score: free.min(depth) / depth - margin / longest,
+                    free,
+                    joint,
+                },
+                margin,
+            ));
         } else {
             let pivot = DVec3::from_array(joint.pivot_in_object_m);
             let line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
@@ -216,6 +257,19 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         list.sort_by(|a, b| b.score.total_cmp(&a.score));
         list.first().map(|c| (c.joint.clone(), c.free, c.score))
     };
+    // A part held by a stem twists on it when it can.
+    if let Some((twist, free, _)) =
+        best(&mut twists).filter(|(_, free, _)| *free >= HINGE_FREE_MIN_RAD)
+    {
+        let (joint, why) = twist_joint(scene, mover, &twist);
+        return Motion {
+            joint: Some(joint),
+            summary: format!(
+                "held by one small flat patch, a stem: twists on it ({why}; turns {:.0} deg freely in the search)",
+                free.to_degrees()
+            ),
+        };
+    }
     let hinge = best(&mut hinges).filter(|(_, free, _)| *free >= HINGE_FREE_MIN_RAD);
     // A part slides out of its opening along its depth: only the way out counts, and it must be
     // deep that way (a door's way out is through its thin face) and travel most of that depth.
@@ -223,12 +277,25 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     // clear the opening.
     let [thin, middle, _] = part.sorted_extents();
     let slab = thin < SLAB_RATIO * middle;
-    let slide = best(&mut slides).filter(|(joint, free, _)| {
-        let depth = extent_along(&child_points, DVec3::from_array(joint.axis_in_object));
-        depth >= SLIDE_DEPTH_MIN_FRACTION * longest
-            && *free >= SLIDE_FREE_MIN_FRACTION * depth
-            && !(slab && depth <= SLAB_DEPTH_SLACK * thin)
-    });
+    // Ways out of the opening: those where the parent reaches past the part least (within
+    // `OPENING_SLACK_FRACTION` of the part's length of the least), deep and free enough; of
+    // them, the one the part comes out of the most.
+    let least = slides
+        .iter()
+        .map(|(_, margin)| *margin)
+        .fold(f64::INFINITY, f64::min);
+    let mut slides: Vec<Candidate> = slides
+        .into_iter()
+        .filter(|(c, margin)| {
+            let depth = extent_along(&child_points, DVec3::from_array(c.joint.axis_in_object));
+            *margin <= least + OPENING_SLACK_FRACTION * longest
+                && depth >= SLIDE_DEPTH_MIN_FRACTION * longest
+                && c.free >= SLIDE_FREE_MIN_FRACTION * depth
+                && !(slab && depth <= SLAB_DEPTH_SLACK * thin)
+        })
+        .map(|(c, _)| c)
+        .collect();
+    let slide = best(&mut slides);
     let panel = thin < THIN_RATIO * middle;
     let enclosed = !panel && inside >= INSIDE_SHARE_MIN;
     let chosen = if enclosed {
@@ -420,11 +487,12 @@ fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
                 }
             }
         }
+        let slide_axis = along_parent(part.axes[k], &mover.boxes[mover.parent]);
         for sign in [1.0, -1.0] {
             out.push(joint(
                 mover,
                 JointKind::Prismatic,
-                part.axes[k] * sign,
+                slide_axis * sign,
                 part.centre,
                 Some(part.extent(k).max(1e-6)),
                 format!("slide along box axis {k}, chosen by its free sweep"),
@@ -432,6 +500,19 @@ fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
         }
     }
     out
+}
+
+/// The parent's box axis within [`SLIDE_SNAP_COS`] of `axis` (signed as `axis`), else `axis`: a
+/// part slides along its parent's runners, and a box fitted to the part alone can be a fraction
+/// of a degree off them, enough for a drawer snug in its opening to scrape its side a few
+/// centimetres out.
+fn along_parent(axis: DVec3, parent: &PartBox) -> DVec3 {
+    parent
+        .axes
+        .iter()
+        .map(|a| if a.dot(axis) >= 0.0 { *a } else { -*a })
+        .find(|a| a.dot(axis) >= SLIDE_SNAP_COS)
+        .unwrap_or(axis)
 }
 
 /// How far the candidate moved before it failed (one step short of the failing coordinate): a

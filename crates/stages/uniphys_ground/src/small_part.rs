@@ -1,6 +1,7 @@
 //! Small parts (a button, a key, a knob, a dial): they move along the normal of the face they
 //! sit on. A flat one, or a round coin, is pushed a short way into its parent; one that is not
-//! round but stands out of the face by 40 % of its width or more is gripped and turned.
+//! round but stands out of the face by 40 % of its width or more is gripped and turned. A push
+//! travels half the part's depth, or a tenth of its width when it is drawn without thickness.
 
 use uniphys_geometry::{DVec3, principal_axes};
 use uniphys_types::JointKind;
@@ -15,6 +16,11 @@ use crate::spin::{Spin, across};
 const KNOB_RATIO: f64 = 0.4;
 /// A push travels this share of the part's depth along its axis.
 const PUSH_TRAVEL_FRACTION: f64 = 0.5;
+/// A part whose depth along its push is under this share of its width is drawn as a single
+/// surface (no thickness) ...
+const FLAT_DEPTH_FRACTION: f64 = 0.01;
+/// ... and is pushed this share of its width (a few millimetres for a finger-sized button).
+const FLAT_STROKE_FRACTION: f64 = 0.1;
 /// A small part whose own axis is within this angle (cosine of 20 degrees) of the normal of the
 /// face it touches its parent on moves along that normal.
 const FACE_NORMAL_COS: f64 = 0.939_692_6;
@@ -74,7 +80,7 @@ pub(crate) fn small_part_motion(
             ),
         };
     }
-    let travel = PUSH_TRAVEL_FRACTION * depth;
+    let travel = push_travel(depth, width);
     Motion {
         joint: Some(joint(
             mover,
@@ -87,5 +93,27 @@ pub(crate) fn small_part_motion(
         summary: format!(
             "small ({share:.0} % of its parent's size) and flat or square: pushed {travel:.4} into its parent"
         ),
+    }
+}
+
+/// How far a small part of `depth` along its push and `width` across it is pushed: half its
+/// depth, or a tenth of its width when it is drawn as a single surface and has no depth to read
+/// its stroke from.
+fn push_travel(depth: f64, width: f64) -> f64 {
+    if depth < FLAT_DEPTH_FRACTION * width {
+        FLAT_STROKE_FRACTION * width
+    } else {
+        PUSH_TRAVEL_FRACTION * depth
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_button_is_pushed_half_its_depth_and_one_without_thickness_a_tenth_of_its_width() {
+        assert!((push_travel(0.008, 0.05) - 0.004).abs() < 1e-12);
+        assert!((push_travel(0.0, 0.05) - 0.005).abs() < 1e-12);
     }
 }

@@ -154,3 +154,24 @@ fn a_microwave_door_hinges_across_from_its_handle_not_along_its_long_edge() {
     // The door is wider than tall: its long edge would be a flap's hinge.
     check("gensim2-7221", true);
 }
+
+#[test]
+fn a_faucet_lever_twists_on_its_cartridge() {
+    // The lever is held by one small patch on top of the faucet's body: it turns about the
+    // patch's normal, not about an edge of its box.
+    check("gensim2-1053", true);
+}
+
+#[test]
+fn a_folding_knife_blade_turns_on_its_pin() {
+    // The blade touches its handle only around the pin: it turns in its own plane.
+    check("kitchen-101054", false);
+}
+
+#[test]
+fn a_table_drawer_comes_out_the_way_it_travels_furthest() {
+    // Its side is flush with the table's side, so the table encloses it least that way; but
+    // pulled that way it meets the frame within a third of its depth, while pulled out of its
+    // front it comes out nearly whole.
+    check("gensim2-20453", false);
+}
