@@ -10,7 +10,7 @@
 //!    turns about that normal ([`crate::small_part`]).
 //! 3. **Twist**: a part held by one small flat patch of contact (a stem: a faucet's lever, a
 //!    blade on its pin) twists about the patch's normal through its middle when that turn is
-//!    free by 30 degrees or more ([`crate::stem`]).
+//!    free by a quarter turn or more ([`crate::stem`]).
 //! 4. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
 //!    corners, edge and face middles and centre, both directions) and every slide along a box axis
 //!    (its parent's box axis when within 5 degrees of it) is swept outward from rest. Each gets its free range: how far it moves before it passes
@@ -66,6 +66,8 @@ const SUPPORT_POINTS_MIN: usize = 6;
 const HINGE_SWEEP_RAD: f64 = PI;
 /// A hinge must turn freely at least this far to count, radians (30 degrees).
 const HINGE_FREE_MIN_RAD: f64 = std::f64::consts::FRAC_PI_6;
+/// A twist on a stem must turn at least this far freely to count, radians (a quarter turn).
+const TWIST_FREE_MIN_RAD: f64 = FRAC_PI_2;
 /// A slide must keep touching its parent over at least this share of the part's depth along it.
 const SLIDE_FREE_MIN_FRACTION: f64 = 0.5;
 /// A part slides only along a direction in which it is at least this deep, as a share of its
@@ -257,9 +259,10 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         list.sort_by(|a, b| b.score.total_cmp(&a.score));
         list.first().map(|c| (c.joint.clone(), c.free, c.score))
     };
-    // A part held by a stem twists on it when it can.
+    // A part held by a stem twists on it when it turns a quarter turn freely: a twist stopped
+    // sooner is a patch that only looks like a stem (a lid's hinge seen through few samples).
     if let Some((twist, free, _)) =
-        best(&mut twists).filter(|(_, free, _)| *free >= HINGE_FREE_MIN_RAD)
+        best(&mut twists).filter(|(_, free, _)| *free >= TWIST_FREE_MIN_RAD)
     {
         let (joint, why) = twist_joint(scene, mover, &twist);
         return Motion {

@@ -3,7 +3,7 @@
 //! A part held so can turn about the patch's normal through the patch's middle, the line a
 //! stem or pin runs along, without its hold moving: the patch turns in its own plane. A hinge
 //! along an edge of its box would tear the patch off, so a part with a stem twists on it when
-//! the sweep lets it turn 30 degrees, over any line of its box (`crate::motion_search`).
+//! the sweep lets it turn a quarter turn, over any line of its box (`crate::motion_search`).
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
