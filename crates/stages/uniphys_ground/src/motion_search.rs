@@ -13,9 +13,9 @@
 //!    free by a quarter turn or more ([`crate::stem`]).
 //! 4. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
 //!    corners, edge and face middles and centre, both directions) and every slide along a box axis
-//!    (its parent's box axis when within 5 degrees of it) is swept outward from rest. Each gets its free range: how far it moves before it passes
-//!    through another part, or (a hinge) its axis leaves the parent, or (a slide) it loses
-//!    contact with the parent.
+//!    (its parent's box axis when within 5 degrees of it) is swept outward from rest. Each gets
+//!    its free range: how far it moves before it passes through another part, or (a hinge) its
+//!    axis leaves the parent, or (a slide) it loses contact with the parent.
 //!    - A part that is not a thin panel (thickness at least 15 % of its width) and lies mostly
 //!      inside its parent's box (a drawer, a tray) slides when it can slide out of its opening:
 //!      along a box axis in which its parent encloses it least (within 5 % of its length of
