@@ -37,6 +37,8 @@ mod roles;
 mod small_part;
 mod spin;
 mod stem;
+#[cfg(test)]
+mod test_points;
 mod tree;
 mod unnamed;
 mod wall;

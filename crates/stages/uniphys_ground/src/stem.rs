@@ -99,20 +99,11 @@ pub(crate) fn twist_joint(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_points::box_grid;
 
-    /// Points on a grid over the box `[lo, hi]` (a flat box is a patch).
+    /// Points filling the box `[lo, hi]` on a grid.
     fn grid(lo: DVec3, hi: DVec3) -> Vec<DVec3> {
-        let n = 5;
-        let mut out = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                for k in 0..=n {
-                    let t = DVec3::new(i as f64, j as f64, k as f64) / n as f64;
-                    out.push(lo + (hi - lo) * t);
-                }
-            }
-        }
-        out
+        box_grid(lo, hi, 5)
     }
 
     #[test]
