@@ -233,7 +233,6 @@ async fn check_delete_prefix(store: &ArtifactStore) {
 /// Under `Writes::ConditionalNotAtomic` both writers may also be answered `Created`, as long as
 /// the stored object is exactly one writer's bytes (never a mix, never lost).
 async fn check_racing_writers(store: &ArtifactStore, scratch: &Path, writes: Writes) {
-    let both_created_allowed = writes == Writes::ConditionalNotAtomic;
     for round in 0..4u64 {
         let key = format!("race/{round}/bytes.bin");
         let (a, b) = (
@@ -245,17 +244,13 @@ async fn check_racing_writers(store: &ArtifactStore, scratch: &Path, writes: Wri
             store.put_once(&key, b.clone())
         );
         let stored = store.get(&key).await.unwrap();
-        match (ra, rb) {
-            (Ok(PutOutcome::Created), Err(StorageError::Conflict { .. })) => assert!(stored == a),
-            (Err(StorageError::Conflict { .. }), Ok(PutOutcome::Created)) => assert!(stored == b),
-            (Ok(PutOutcome::Created), Ok(PutOutcome::Created)) if both_created_allowed => {
-                assert!(
-                    stored == a || stored == b,
-                    "put_once race {round}: torn object"
-                );
-            }
-            other => panic!("put_once race {round}: {other:?}"),
-        }
+        judge_race(
+            &format!("put_once race {round}"),
+            (ra, rb),
+            &stored,
+            (&a, &b),
+            writes,
+        );
 
         let key = format!("race/{round}/file.bin");
         let (fa, fb) = (scratch.join("race-a"), scratch.join("race-b"));
@@ -263,19 +258,39 @@ async fn check_racing_writers(store: &ArtifactStore, scratch: &Path, writes: Wri
         std::fs::write(&fb, &b).unwrap();
         let (ra, rb) = tokio::join!(store.put_file(&key, &fa), store.put_file(&key, &fb));
         let stored = store.get(&key).await.unwrap();
-        match (ra, rb) {
-            (Ok(PutOutcome::Created), Err(StorageError::Conflict { .. })) => assert!(stored == a),
-            (Err(StorageError::Conflict { .. }), Ok(PutOutcome::Created)) => assert!(stored == b),
-            (Ok(PutOutcome::Created), Ok(PutOutcome::Created)) if both_created_allowed => {
-                assert!(
-                    stored == a || stored == b,
-                    "put_file race {round}: torn object"
-                );
-            }
-            other => panic!("put_file race {round}: {other:?}"),
-        }
+        judge_race(
+            &format!("put_file race {round}"),
+            (ra, rb),
+            &stored,
+            (&a, &b),
+            writes,
+        );
     }
     assert_eq!(store.delete_prefix("race").await.unwrap(), 8);
+}
+
+/// The two racing writers' outcomes `(ra, rb)` and the `stored` object against their bytes
+/// `(a, b)`, as [`check_racing_writers`] requires; `what` names the race in a failure.
+fn judge_race(
+    what: &str,
+    outcomes: (
+        Result<PutOutcome, StorageError>,
+        Result<PutOutcome, StorageError>,
+    ),
+    stored: &[u8],
+    (a, b): (&[u8], &[u8]),
+    writes: Writes,
+) {
+    match outcomes {
+        (Ok(PutOutcome::Created), Err(StorageError::Conflict { .. })) => assert!(stored == a),
+        (Err(StorageError::Conflict { .. }), Ok(PutOutcome::Created)) => assert!(stored == b),
+        (Ok(PutOutcome::Created), Ok(PutOutcome::Created))
+            if writes == Writes::ConditionalNotAtomic =>
+        {
+            assert!(stored == a || stored == b, "{what}: torn object");
+        }
+        other => panic!("{what}: {other:?}"),
+    }
 }
 
 /// How a store catches a second writer.
