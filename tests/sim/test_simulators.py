@@ -12,6 +12,13 @@ from conftest import INPUTS, exported
 NAMES = [name for name, _ in INPUTS]
 SIM_SECONDS = 2.0
 MAX_SPEED = 50.0  # rad/s or m/s: anything above this in a passive asset is an explosion
+# MuJoCo's joint types as plain ints: numpy's int32 does not compare equal to the enum.
+MOVABLE_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+FREE = int(mujoco.mjtJoint.mjJNT_FREE)
+
+
+def joint_types(model: mujoco.MjModel) -> list[int]:
+    return [int(t) for t in model.jnt_type]
 
 
 def _mujoco_rollout(model: mujoco.MjModel, seconds: float) -> mujoco.MjData:
@@ -33,7 +40,7 @@ def _assert_sane(qpos, qvel, what: str):
 
 def _limited_joints(model: mujoco.MjModel):
     for j in range(model.njnt):
-        if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE) and model.jnt_limited[j]:
+        if int(model.jnt_type[j]) in MOVABLE_TYPES and model.jnt_limited[j]:
             yield j, model.jnt_range[j]
 
 
@@ -43,7 +50,7 @@ def test_mjcf_loads_settles_and_reaches_limits(exports, name):
     model = mujoco.MjModel.from_xml_path(str(e.out / "model.xml"))
     assert model.nbody >= 2, "no bodies in the MJCF"
     # The root is fixed: no free joint anywhere.
-    assert mujoco.mjtJoint.mjJNT_FREE not in list(model.jnt_type)
+    assert FREE not in joint_types(model)
     data = _mujoco_rollout(model, SIM_SECONDS)
     _assert_sane(data.qpos, data.qvel, f"{name} MJCF after {SIM_SECONDS} s")
     for j, (lo, hi) in _limited_joints(model):
@@ -63,7 +70,7 @@ def test_mjcf_loads_settles_and_reaches_limits(exports, name):
 def test_urdf_imports_into_mujoco_fixed_and_stable(exports, name):
     e = exported(exports, name)
     model = mujoco.MjModel.from_xml_path(str(e.out / "model.urdf"))
-    assert mujoco.mjtJoint.mjJNT_FREE not in list(model.jnt_type), "the `world` link must fix the root"
+    assert FREE not in joint_types(model), "the `world` link must fix the root"
     assert model.ngeom > 0, "MuJoCo's URDF import produced no geoms"
     data = _mujoco_rollout(model, SIM_SECONDS)
     _assert_sane(data.qpos, data.qvel, f"{name} URDF in MuJoCo")

@@ -51,7 +51,7 @@ pub struct ExportInput<'a> {
     pub materials: &'a [SurfaceMaterial],
     /// Textures the materials refer to.
     pub textures: &'a [Texture],
-    /// Pairs of parts that touch at rest; those not joined directly get MJCF contact excludes.
+    /// Pairs of parts that touch at rest; they get MJCF contact excludes, as jointed pairs do.
     pub touching_pairs: &'a [(PartId, PartId)],
     /// Checks from earlier stages, included in `report.json`.
     pub report: &'a VerificationReport,
@@ -116,7 +116,12 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
         .sections
         .push(checks::export_checks(record, input.colliders));
     artifacts.push(Artifact::json("record.json", record)?);
-    artifacts.push(report::report_artifact(record, &report, input.notes)?);
+    artifacts.push(report::report_artifact(
+        record,
+        &report,
+        input.notes,
+        &report::contact_excludes(&model),
+    )?);
     artifacts.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(ExportOutput { artifacts, report })
 }

@@ -83,7 +83,7 @@ pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
     root.push(world);
     if !model.exclude_pairs.is_empty() {
         let mut contact = Element::new("contact");
-        for &(a, b) in &model.exclude_pairs {
+        for &(a, b, _) in &model.exclude_pairs {
             contact.push(
                 Element::new("exclude")
                     .attr("body1", model.links[a].name.clone())

@@ -34,7 +34,27 @@ pub(crate) struct Model<'a> {
     pub root: usize,
     /// Joints ordered so that a parent's joint precedes its children's.
     pub joints: Vec<&'a Joint>,
-    pub exclude_pairs: Vec<(usize, usize)>,
+    /// Pairs of links (indices, smaller first) whose contacts the MJCF excludes, and why.
+    pub exclude_pairs: Vec<(usize, usize, ExcludeReason)>,
+}
+
+/// Why two links' contacts are excluded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum ExcludeReason {
+    /// A joint connects them.
+    Jointed,
+    /// They touch at rest.
+    TouchAtRest,
+}
+
+impl ExcludeReason {
+    /// The reason as `report.json` names it.
+    pub(crate) fn label(self) -> &'static str {
+        match self {
+            Self::Jointed => "jointed",
+            Self::TouchAtRest => "touch at rest",
+        }
+    }
 }
 
 impl<'a> Model<'a> {
@@ -88,21 +108,24 @@ impl<'a> Model<'a> {
         // Parents before children: by depth in the tree, then by child id.
         let mut joints: Vec<&Joint> = record.joints.iter().collect();
         joints.sort_by_key(|j| (depth(record, j.child), j.child));
+        // A part never collides with the part it is jointed to (MuJoCo's own parent filter skips
+        // bodies welded to the world, so the root's children need it said) nor with a part it
+        // touches at rest (their hulls overlap where the meshes meet).
         let mut exclude_pairs = Vec::new();
-        for &(a, b) in input.touching_pairs {
-            let (Some(ia), Some(ib)) = (index_of(a), index_of(b)) else {
-                continue;
-            };
-            let related = record
-                .joints
-                .iter()
-                .any(|j| (j.parent == a && j.child == b) || (j.parent == b && j.child == a));
-            if !related && ia != ib {
-                exclude_pairs.push((ia.min(ib), ia.max(ib)));
+        let jointed = record.joints.iter().map(|j| (j.parent, j.child, ExcludeReason::Jointed));
+        let touching = input
+            .touching_pairs
+            .iter()
+            .map(|&(a, b)| (a, b, ExcludeReason::TouchAtRest));
+        for (a, b, why) in jointed.chain(touching) {
+            if let (Some(ia), Some(ib)) = (index_of(a), index_of(b))
+                && ia != ib
+            {
+                exclude_pairs.push((ia.min(ib), ia.max(ib), why));
             }
         }
         exclude_pairs.sort_unstable();
-        exclude_pairs.dedup();
+        exclude_pairs.dedup_by_key(|(a, b, _)| (*a, *b));
         Ok(Self {
             name: sanitize(&record.name),
             links,

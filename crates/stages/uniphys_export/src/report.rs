@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde_json::{Value, json};
 use uniphys_types::{AssetRecord, Estimate, Provenance, VerificationReport};
 
+use crate::model::Model;
 use crate::{Artifact, ExportResult};
 
 struct Row {
@@ -28,6 +29,7 @@ pub(crate) fn report_artifact(
     record: &AssetRecord,
     report: &VerificationReport,
     notes: &[String],
+    contact_excludes: &[Value],
 ) -> ExportResult<Artifact> {
     let o = &record.object;
     let mut rows = vec![
@@ -87,7 +89,19 @@ pub(crate) fn report_artifact(
         "values": rows.iter().map(|r| json!({ "subject": r.subject, "field": r.field, "value": r.value, "provenance": r.provenance })).collect::<Vec<_>>(),
         "sections": report.sections,
         "metrics": report.metrics,
+        "contact_excludes": contact_excludes,
         "notes": notes,
     });
     Artifact::json("report.json", &value)
+}
+
+/// The pairs of links whose contacts the MJCF excludes on purpose, by link name, with why.
+pub(crate) fn contact_excludes(model: &Model<'_>) -> Vec<Value> {
+    model
+        .exclude_pairs
+        .iter()
+        .map(|&(a, b, why)| {
+            json!({ "links": [model.links[a].name, model.links[b].name], "why": why.label() })
+        })
+        .collect()
 }

@@ -172,8 +172,19 @@ fn mjcf_nests_the_door_with_its_joint_and_separates_visual_from_collision() {
     assert!(door > body);
     assert!(mjcf.contains(r#"<joint name="hinge_door" type="hinge" pos="0 0 0" axis="0 0 1" range="0 1.5" damping="0.2" frictionloss="0.01" armature="0.02"/>"#), "{mjcf}");
     assert!(mjcf.contains(r#"contype="0" conaffinity="0" group="2""#));
-    // Parent and child touch, but MuJoCo filters parent-child contacts itself: no exclude needed.
-    assert!(!mjcf.contains("<exclude"));
+    // MuJoCo's parent filter skips the root, which is welded to the world: the door and its
+    // body need an exclude, or their hulls fight at rest. It is written once and reported.
+    assert_eq!(
+        mjcf.matches(r#"<exclude body1="part_0_body" body2="part_1_door"/>"#)
+            .count(),
+        1,
+        "{mjcf}"
+    );
+    let report: serde_json::Value = serde_json::from_str(&text(&out, "report.json")).unwrap();
+    assert_eq!(
+        report["contact_excludes"],
+        serde_json::json!([{ "links": ["part_0_body", "part_1_door"], "why": "jointed" }])
+    );
 }
 
 #[test]

@@ -1,0 +1,162 @@
+"""Real objects in the simulators (issue 17): every shared PartNet-Mobility object, as shipped with
+its true joints, through `uniphys run`; then, in MuJoCo, the MJCF at rest for 2 s, each limited
+joint set to each of its limits and held there for 0.5 s (it must stay within 5 % of its range),
+and the colliders of different bodies that overlap at rest (contacts deeper than 1 mm that the
+export does not exclude); in PyBullet, the URDF at rest for 2 s.
+
+Prints one row per object and a summary. Usage:
+  .venv/bin/python bench/real_simulators.py [--data ../shared/data/partnet-mobility] [--only NAME ...]
+  [--ignore-joints] (UNIPHYS_BIN names the binary; default target/release/uniphys)
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pybullet as p
+
+REPO = Path(__file__).resolve().parents[1]
+REST_SECS = 2.0
+HOLD_SECS = 0.5
+HOLD_TOLERANCE = 0.05  # share of the joint's range a held joint may leave it by
+OVERLAP_DEPTH_M = 1e-3  # contacts at rest deeper than this are colliders that fight
+MAX_SPEED = 50.0  # rad/s or m/s: faster in a passive asset is an explosion
+# MuJoCo's joint types as plain ints: numpy's int32 does not compare equal to the enum.
+MOVABLE_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+
+
+def run(binary, source, out, extra):
+    started = time.time()
+    proc = subprocess.run(
+        [binary, "run", str(source), "--out", str(out), "--json", "--force", *extra],
+        capture_output=True, text=True, timeout=1200,
+    )
+    return proc.returncode, proc.stderr.strip(), time.time() - started
+
+
+def mujoco_checks(model_xml):
+    model = mujoco.MjModel.from_xml_path(str(model_xml))
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    overlaps = set()
+    for c in data.contact[: data.ncon]:
+        if -c.dist > OVERLAP_DEPTH_M:
+            a, b = model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]
+            overlaps.add(tuple(sorted((mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, a) or str(a),
+                                       mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or str(b)))))
+    for _ in range(int(round(REST_SECS / model.opt.timestep))):
+        mujoco.mj_step(model, data)
+    rest_ok = bool(np.all(np.isfinite(data.qvel)) and (len(data.qvel) == 0 or np.max(np.abs(data.qvel)) < MAX_SPEED))
+    held, failed = 0, []
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) not in MOVABLE_TYPES or not model.jnt_limited[j]:
+            continue
+        lo, hi = model.jnt_range[j]
+        for target in (lo, hi):
+            d = mujoco.MjData(model)
+            adr = model.jnt_qposadr[j]
+            d.qpos[adr] = target
+            mujoco.mj_forward(model, d)
+            for _ in range(int(round(HOLD_SECS / model.opt.timestep))):
+                mujoco.mj_step(model, d)
+            q = d.qpos[adr]
+            margin = HOLD_TOLERANCE * (hi - lo)
+            held += 1
+            if not (np.isfinite(q) and lo - margin <= q <= hi + margin):
+                name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or str(j)
+                failed.append(f"{name}@{target:.3g}->{q:.3g}")
+    return rest_ok, held, failed, sorted(overlaps)
+
+
+def pybullet_rest(urdf):
+    client = p.connect(p.DIRECT)
+    try:
+        p.setGravity(0, 0, -9.81, physicsClientId=client)
+        body = p.loadURDF(str(urdf), useFixedBase=True, flags=p.URDF_USE_INERTIA_FROM_FILE, physicsClientId=client)
+        joints = [j for j in range(p.getNumJoints(body, physicsClientId=client))
+                  if p.getJointInfo(body, j, physicsClientId=client)[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC)]
+        for j in joints:
+            p.setJointMotorControl2(body, j, p.VELOCITY_CONTROL, force=0, physicsClientId=client)
+        for _ in range(int(REST_SECS * 240)):
+            p.stepSimulation(physicsClientId=client)
+        speeds = [abs(s[1]) for s in p.getJointStates(body, joints, physicsClientId=client)] if joints else [0.0]
+        return bool(np.all(np.isfinite(speeds)) and max(speeds) < MAX_SPEED)
+    finally:
+        p.disconnect(client)
+
+
+def one(binary, source, work, extra):
+    out = work / source.name
+    code, stderr, secs = run(binary, source, out, extra)
+    row = {"object": source.name, "exit": code, "secs": secs}
+    if code not in (0, 1):
+        row["error"] = stderr.splitlines()[-1] if stderr else "no message"
+        return row
+    try:
+        row["mj_rest"], row["held"], row["failed"], row["overlaps"] = mujoco_checks(out / "model.xml")
+    except Exception as error:  # a load failure is a result, reported in the row
+        row["mj_error"] = str(error).splitlines()[0]
+    try:
+        row["pb_rest"] = pybullet_rest(out / "model.urdf")
+    except Exception as error:
+        row["pb_error"] = str(error).splitlines()[0]
+    return row
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", default=str(REPO.parent / "shared" / "data" / "partnet-mobility"))
+    parser.add_argument("--only", nargs="*", default=[])
+    parser.add_argument("--ignore-joints", action="store_true", help="articulate with the built-in grounder")
+    parser.add_argument("--json", help="also write the rows to this file")
+    args = parser.parse_args()
+    binary = os.environ.get("UNIPHYS_BIN", str(REPO / "target" / "release" / "uniphys"))
+    if not Path(binary).is_file():
+        raise SystemExit(f"uniphys binary not found at {binary}; run `cargo build --release --bin uniphys` or set UNIPHYS_BIN")
+    data = Path(args.data)
+    sources = sorted(d for d in data.iterdir() if (d / "mobility.urdf").is_file()
+                     and (not args.only or any(o in d.name for o in args.only)))
+    if not sources:
+        raise SystemExit(f"no PartNet-Mobility objects under {data}")
+    extra = ["--ignore-joints"] if args.ignore_joints else []
+    work = Path(tempfile.mkdtemp(prefix="uniphys-realsim-"))
+    rows = []
+    print(f"{len(sources)} objects, outputs in {work}", flush=True)
+    print("| object | exit | s | MuJoCo rest | joints held at limits | overlapping at rest | PyBullet rest |")
+    print("|---|---:|---:|---|---:|---|---|")
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        for row in pool.map(lambda s: one(binary, s, work, extra), sources):
+            rows.append(row)
+            held = row.get("held", 0)
+            failed = row.get("failed", [])
+            print(f"| {row['object']} | {row['exit']} | {row['secs']:.0f} | "
+                  f"{row.get('mj_rest', row.get('mj_error', row.get('error', '-')))} | "
+                  f"{held - len(failed)}/{held} {' '.join(failed)} | "
+                  f"{len(row.get('overlaps', []))} {' '.join('+'.join(o) for o in row.get('overlaps', [])[:4])} | "
+                  f"{row.get('pb_rest', row.get('pb_error', '-'))} |", flush=True)
+    exported = [r for r in rows if r["exit"] in (0, 1)]
+    limit_fail = [r for r in exported if r.get("failed")]
+    overlap = [r for r in exported if r.get("overlaps")]
+    print()
+    print("| what | objects |")
+    print("|---|---:|")
+    print(f"| run | {len(rows)} |")
+    print(f"| exported (exit 0 or 1) | {len(exported)} |")
+    print(f"| MuJoCo loads and rests 2 s | {sum(1 for r in exported if r.get('mj_rest'))} |")
+    print(f"| PyBullet loads and rests 2 s | {sum(1 for r in exported if r.get('pb_rest'))} |")
+    print(f"| a joint leaves its range by over 5 % when held at a limit | {len(limit_fail)} ({100 * len(limit_fail) / max(len(exported), 1):.1f} %) |")
+    print(f"| joints x limits held | {sum(r.get('held', 0) - len(r.get('failed', [])) for r in exported)} of {sum(r.get('held', 0) for r in exported)} |")
+    print(f"| colliders of two bodies overlap at rest (> 1 mm) | {len(overlap)} |")
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main()
