@@ -28,6 +28,24 @@ pub fn inertia_is_physical(i: &DMat3) -> bool {
     moments.x > 0.0 && moments.x + moments.y >= moments.z - tol
 }
 
+/// Relative margin by which [`with_triangle_margin`] keeps `A + B` above `C`.
+pub const TRIANGLE_MARGIN: f64 = 1e-6;
+
+/// The tensor with `delta` added to each principal moment (its axes unchanged), the least
+/// `delta >= 0` that makes `A + B >= C` hold by [`TRIANGLE_MARGIN`] of the trace. A flat plate
+/// or a thin rod sits exactly on the bound, and a simulator that diagonalises the tensor again
+/// after it was written to ten digits (MuJoCo) may find it just below and refuse the model.
+#[must_use]
+pub fn with_triangle_margin(i: DMat3) -> DMat3 {
+    let (moments, _) = symmetric_eigen(i);
+    let trace = moments.x + moments.y + moments.z;
+    let mut sorted = moments.to_array();
+    sorted.sort_by(f64::total_cmp);
+    let slack = sorted[0] + sorted[1] - sorted[2];
+    let delta = (TRIANGLE_MARGIN * trace - slack).max(0.0);
+    i + DMat3::from_diagonal(glam::DVec3::splat(delta))
+}
+
 #[cfg(test)]
 mod tests {
     use glam::DVec3;
@@ -44,6 +62,19 @@ mod tests {
         assert!(inertia_is_physical(&DMat3::from_diagonal(DVec3::new(
             1.0, 1.0, 2.0
         ))));
+    }
+
+    #[test]
+    fn a_flat_plate_gets_a_margin_and_a_box_is_unchanged() {
+        let r = DMat3::from_rotation_z(0.4);
+        let plate = r * DMat3::from_diagonal(DVec3::new(1.0, 1.0, 2.0)) * r.transpose();
+        let (moments, _) = symmetric_eigen(with_triangle_margin(plate));
+        let mut m = moments.to_array();
+        m.sort_by(f64::total_cmp);
+        assert!(m[0] + m[1] - m[2] >= 0.99 * TRIANGLE_MARGIN * 4.0, "{m:?}");
+        assert!((m[2] - 2.0).abs() < 1e-5);
+        let cuboid = DMat3::from_diagonal(DVec3::new(6.5, 5.0, 2.5));
+        assert_eq!(with_triangle_margin(cuboid), cuboid);
     }
 
     #[test]

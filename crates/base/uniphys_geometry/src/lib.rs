@@ -41,7 +41,7 @@ pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
 pub use glam::{DMat3, DMat4, DQuat, DVec3};
 pub use hull::convex_hull;
-pub use inertia::inertia_is_physical;
+pub use inertia::{TRIANGLE_MARGIN, inertia_is_physical, with_triangle_margin};
 pub use kdtree::KdTree;
 pub use kmeans::{KMeans, kmeans};
 pub use mass::MassProperties;

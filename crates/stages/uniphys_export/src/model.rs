@@ -1,7 +1,7 @@
 //! The simulator-neutral model both URDF and MJCF are written from: one link per part, its
 //! frame, mass properties and mesh files, and the joints in tree order.
 
-use uniphys_geometry::{DMat3, DVec3};
+use uniphys_geometry::{DMat3, DVec3, with_triangle_margin};
 use uniphys_types::{AssetRecord, Joint, JointKind, PartId};
 
 use crate::{ExportError, ExportInput, ExportResult};
@@ -88,7 +88,10 @@ impl<'a> Model<'a> {
                 Some(j) => DVec3::from_array(j.pivot_in_object_m),
             };
             let com = DVec3::from_array(part.mass.com_in_object_m);
-            let inertia = DMat3::from_cols_array_2d(&part.mass.inertia_about_com_kg_m2).transpose();
+            // A zero-thickness part is a lamina (A + B = C exactly): keep it off the bound.
+            let inertia = with_triangle_margin(
+                DMat3::from_cols_array_2d(&part.mass.inertia_about_com_kg_m2).transpose(),
+            );
             let collision_stems = (0..input.colliders[i].len())
                 .map(|k| format!("{}_collision_{k}", part.id))
                 .collect();

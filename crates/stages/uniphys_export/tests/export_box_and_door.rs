@@ -170,7 +170,7 @@ fn mjcf_nests_the_door_with_its_joint_and_separates_visual_from_collision() {
         .find(r#"<body name="part_1_door" pos="-0.3 -0.21 0.3">"#)
         .unwrap();
     assert!(door > body);
-    assert!(mjcf.contains(r#"<joint name="hinge_door" type="hinge" pos="0 0 0" axis="0 0 1" range="0 1.5" damping="0.2" frictionloss="0.01" armature="0.02"/>"#), "{mjcf}");
+    assert!(mjcf.contains(r#"<joint name="hinge_door" type="hinge" pos="0 0 0" axis="0 0 1" range="0 1.5" solreflimit="0.004 1" damping="0.2" frictionloss="0.01" armature="0.02"/>"#), "{mjcf}");
     assert!(mjcf.contains(r#"contype="0" conaffinity="0" group="2""#));
     // MuJoCo's parent filter skips the root, which is welded to the world: the door and its
     // body need an exclude, or their hulls fight at rest. It is written once and reported.
