@@ -8,7 +8,7 @@ use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 
 use uniphys_verify::Scene;
 
-use crate::dynamics::{RigidMass, joint_dynamics, max_stable_damping};
+use crate::dynamics::{RigidMass, holding_friction, joint_dynamics, max_stable_damping};
 use crate::hypotheses::{SCREEN_SAMPLES, Subject, best_joint};
 use crate::joint_geometry::{hinge, slide};
 use crate::roles::{Role, role_of};
@@ -473,7 +473,15 @@ fn finish_joints(parts: &[PartInput<'_>], joints: &mut [Joint], notes: &mut Vec<
             joint.damping = stable;
         }
         if joint.friction <= 0.0 {
-            joint.friction = friction;
+            joint.friction = if joint.kind == JointKind::Continuous {
+                friction.max(holding_friction(
+                    &group,
+                    DVec3::from_array(joint.axis_in_object),
+                    DVec3::from_array(joint.pivot_in_object_m),
+                ))
+            } else {
+                friction
+            };
         }
     }
 }

@@ -4,6 +4,10 @@
 //! `damping = I_axis / 1 s` (rotational, N m s/rad) or `m / 1 s` (prismatic, N s/m), where
 //! `I_axis` is the moment of inertia of the moving subtree about the joint axis; dry friction
 //! of 1 % of the subtree's weight times its lever arm (rotational) or of its weight (prismatic).
+//! A joint without stops (a knob, a dial, a wheel) has no limit to rest against, so its dry
+//! friction holds the subtree's largest gravity torque, with a margin ([`holding_friction`]):
+//! a knob whose centre of mass sits a millimetre off its axis stays where it is turned instead
+//! of swinging round like a pendulum, as its shaft's friction and detents keep it in a real one.
 
 use uniphys_geometry::{DMat3, DVec3};
 
@@ -88,6 +92,20 @@ pub fn joint_dynamics(
     }
 }
 
+/// How far a joint without stops holds more than its largest gravity torque.
+pub const HOLDING_MARGIN: f64 = 1.2;
+
+/// Dry friction, N m, that holds `moving` still about the line through `pivot` along the unit
+/// `axis` at any angle: [`HOLDING_MARGIN`] times the largest gravity torque about it, its weight
+/// times its lever arm times how far the axis is from vertical (+z up; none about a vertical
+/// axis).
+#[must_use]
+pub fn holding_friction(moving: &RigidMass, axis: DVec3, pivot: DVec3) -> f64 {
+    let lever_m = (moving.com - pivot).reject_from_normalized(axis).length();
+    let off_vertical = axis.cross(DVec3::Z).length();
+    HOLDING_MARGIN * moving.mass_kg * GRAVITY_M_PER_S2 * lever_m * off_vertical
+}
+
 /// The largest damping that keeps the joint's time constant at or above
 /// [`MIN_DAMPING_TIME_CONSTANT_SECS`].
 #[must_use]
@@ -123,6 +141,22 @@ mod tests {
         let (damping, friction) = joint_dynamics(&slab, DVec3::Z, DVec3::new(-0.3, 0.0, 0.0), true);
         assert!((damping - i).abs() < 1e-12);
         assert!((friction - 0.01 * m * 9.81 * 0.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_knob_off_balance_is_held_and_a_vertical_axis_needs_no_hold() {
+        // 20 g knob, centre of mass 1 mm off its horizontal axis.
+        let knob = RigidMass {
+            mass_kg: 0.02,
+            com: DVec3::new(0.0, 0.001, 0.0),
+            inertia_about_com_kg_m2: DMat3::from_diagonal(DVec3::splat(1e-6)),
+        };
+        let gravity_torque = 0.02 * 9.81 * 0.001;
+        let hold = holding_friction(&knob, DVec3::X, DVec3::ZERO);
+        assert!((hold - HOLDING_MARGIN * gravity_torque).abs() < 1e-12);
+        let (_, rule) = joint_dynamics(&knob, DVec3::X, DVec3::ZERO, true);
+        assert!(rule < gravity_torque, "the weight rule alone lets it swing");
+        assert!(holding_friction(&knob, DVec3::Z, DVec3::ZERO).abs() < 1e-15);
     }
 
     #[test]

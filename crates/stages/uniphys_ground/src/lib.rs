@@ -46,7 +46,7 @@ mod wall;
 pub use articulate::{Articulation, PartInput, articulate, sanitize};
 pub use dynamics::{
     DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, MIN_DAMPING_TIME_CONSTANT_SECS,
-    RigidMass, joint_dynamics, max_stable_damping, parallel_axis,
+    HOLDING_MARGIN, RigidMass, holding_friction, joint_dynamics, max_stable_damping, parallel_axis,
 };
 pub use error::{GroundError, GroundResult};
 pub use object::{ObjectKind, object_kind, object_properties};
