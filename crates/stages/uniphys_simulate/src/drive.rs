@@ -2,7 +2,8 @@
 //! with a bounded effort drives the joint to its lower, then its upper limit; then the motor is
 //! released and the asset moves passively.
 //!
-//! The drive is a stiff velocity servo (it corrects velocity errors at 1000/s) commanding 100 %
+//! The drive is a stiff velocity servo (it corrects velocity errors at 1000/s, or faster where
+//! gravity would otherwise slow it by over 5 %: a short, slow lift) commanding 100 %
 //! of the range per second toward the target (never more than closes the gap in one step), with
 //! at most twice the moving group's weight times its lever arm (its weight for a prismatic
 //! joint) plus the joint's own dry friction and damping at the drive speed: enough to lift a lid against gravity and to hit the
@@ -112,7 +113,7 @@ pub(crate) fn run_drive(
             scene.set_drive(
                 model.joint_index,
                 Some((command, model.drive_max_effort)),
-                params.drive_velocity_gain_per_s,
+                model.drive_gain_per_s,
             );
             scene.step();
             elapsed_s += dt;
@@ -121,7 +122,7 @@ pub(crate) fn run_drive(
             }
         }
     }
-    scene.set_drive(model.joint_index, None, params.drive_velocity_gain_per_s);
+    scene.set_drive(model.joint_index, None, model.drive_gain_per_s);
     let energy_start = scene.body_state().energy_j;
     let mut energy_max = energy_start;
     if watch.finite {

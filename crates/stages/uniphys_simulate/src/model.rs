@@ -11,6 +11,10 @@ use crate::DynamicParams;
 /// Nominal span of a continuous joint's drive test, rad: it is driven to -pi/2 and +pi/2.
 pub(crate) const CONTINUOUS_SPAN_RAD: f64 = PI;
 
+/// The share of the drive speed gravity may take from a velocity servo: its lag is the gravity
+/// acceleration over the gain.
+pub(crate) const GRAVITY_LAG_FRACTION: f64 = 0.05;
+
 /// The static description of one movable joint.
 #[derive(Debug, Clone)]
 pub(crate) struct JointModel {
@@ -33,6 +37,10 @@ pub(crate) struct JointModel {
     pub gravity_load: f64,
     /// Bound on the drive's torque or force, N m or N.
     pub drive_max_effort: f64,
+    /// Rate at which the drive corrects a velocity error, 1/s: at least the parameters' gain,
+    /// and stiff enough that gravity slows the drive by at most [`GRAVITY_LAG_FRACTION`] of its
+    /// speed (a 1 cm lid lift is driven at 1 cm/s; a gain of 1000/s would lose all of it).
+    pub drive_gain_per_s: f64,
     /// At-rest drift tolerance, rad or m.
     pub rest_tolerance: f64,
 }
@@ -130,6 +138,17 @@ pub(crate) fn joint_models(
             } else {
                 params.drive_effort_weight_multiple * weight_n * lever_m + own
             };
+            // Gravity's acceleration of the coordinate: g along a slide; about a hinge, at most
+            // about g over the group's reach.
+            let gravity_acceleration = if joint.kind == JointKind::Prismatic {
+                params.gravity_m_per_s2
+            } else {
+                params.gravity_m_per_s2 / lever_m
+            };
+            let drive_speed = params.drive_speed_fraction_of_range_per_s * span;
+            let drive_gain_per_s = params.drive_velocity_gain_per_s.max(
+                gravity_acceleration / (GRAVITY_LAG_FRACTION * drive_speed).max(f64::MIN_POSITIVE),
+            );
             let mut model = JointModel {
                 joint_index,
                 name: joint.name.clone(),
@@ -140,6 +159,7 @@ pub(crate) fn joint_models(
                 friction: joint.friction,
                 gravity_load,
                 drive_max_effort,
+                drive_gain_per_s,
                 rest_tolerance: 0.0,
             };
             model.rest_tolerance =

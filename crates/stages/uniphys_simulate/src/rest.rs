@@ -189,6 +189,7 @@ mod tests {
             friction,
             gravity_load: -2.0,
             drive_max_effort: 10.0,
+            drive_gain_per_s: 1000.0,
             rest_tolerance: 0.03,
         }
     }

@@ -95,6 +95,17 @@ fn drawer_slides_to_both_limits() {
 }
 
 #[test]
+fn a_lid_lifted_a_centimetre_against_gravity_reaches_its_upper_limit() {
+    // Driven at 1 cm/s, gravity would take all of that speed from a 1000/s velocity servo.
+    let report = check(&assets::pot_with_lifting_lid(0.01), &[]);
+    let lid = report.joint("lid_lift").expect("lid joint");
+    assert_eq!(lid.verdict.outcome, CheckOutcome::Pass, "{report:#?}");
+    assert!(lid.rest.gravity_load < 0.0);
+    let t_up = lid.drive.times_to_reach_s[1].expect("upper reached");
+    assert!(t_up < 1.5, "{t_up}");
+}
+
+#[test]
 fn drawer_blocked_by_a_welded_rail_fails_to_reach_its_upper_limit() {
     // The rail sits 0.1 m in front of the drawer, which should slide out 0.3 m.
     let report = check(&assets::drawer_blocked_by_rail(0.1), &[]);

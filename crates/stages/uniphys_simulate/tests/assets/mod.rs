@@ -215,6 +215,27 @@ pub fn box_with_open_lid(open_rad: f64, damping: f64, friction: f64) -> TestAsse
     )
 }
 
+/// A 0.3 x 0.3 x 0.15 m pot with a 1 cm thick lid on it that lifts straight up by `lift_m`
+/// (a pot lid; 0.9 kg at the test density).
+pub fn pot_with_lifting_lid(lift_m: f64) -> TestAsset {
+    asset(
+        "pot_with_lifting_lid",
+        vec![
+            PartSpec::cuboid("pot", [-0.15, -0.15, 0.0], [0.15, 0.15, 0.15]),
+            PartSpec::cuboid("lid", [-0.15, -0.15, 0.15], [0.15, 0.15, 0.16]),
+        ],
+        vec![joint(
+            "lid_lift",
+            JointKind::Prismatic,
+            (0, 1),
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 0.15],
+            Some((0.0, lift_m)),
+            (0.9, 0.01),
+        )],
+    )
+}
+
 /// A carcass (five boards, open at the front, -y) with a drawer sliding out along -y by up to
 /// 0.3 m.
 pub fn drawer_in_carcass(damping: f64, friction: f64) -> TestAsset {
