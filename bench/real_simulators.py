@@ -1,8 +1,10 @@
 """Real objects in the simulators (issue 17): every shared PartNet-Mobility object, as shipped with
 its true joints, through `uniphys run`; then, in MuJoCo, the MJCF at rest for 2 s, each limited
 joint set to each of its limits and held there for 0.5 s (it must stay within 5 % of its range),
-and the colliders of different bodies that overlap at rest (contacts deeper than 1 mm that the
-export does not exclude); in PyBullet, the URDF at rest for 2 s.
+the colliders of different bodies that overlap at rest (contacts deeper than 1 mm that the export
+does not exclude), and for each joint the share of its child's colliders that its parent's also
+fill (a carcass collider that fills its drawer's cavity leaves a gripper no room); in PyBullet,
+the URDF at rest for 2 s and each joint set to each limit, motor off, for 0.5 s.
 
 Prints one row per object and a summary. Usage:
   .venv/bin/python bench/real_simulators.py [--data ../shared/data/partnet-mobility] [--only NAME ...]
@@ -28,6 +30,7 @@ HOLD_SECS = 0.5
 HOLD_TOLERANCE = 0.05  # share of the joint's range a held joint may leave it by
 OVERLAP_DEPTH_M = 1e-3  # contacts at rest deeper than this are colliders that fight
 MAX_SPEED = 50.0  # rad/s or m/s: faster in a passive asset is an explosion
+FILLED_SHARE = 0.5  # a parent's colliders filling more of its child than this leave no room for it
 # MuJoCo's joint types as plain ints: numpy's int32 does not compare equal to the enum.
 MOVABLE_TYPES = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
@@ -51,6 +54,7 @@ def mujoco_checks(model_xml):
             a, b = model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]
             overlaps.add(tuple(sorted((mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, a) or str(a),
                                        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or str(b)))))
+    filled = cavity_filled(model, data)
     for _ in range(int(round(REST_SECS / model.opt.timestep))):
         mujoco.mj_step(model, data)
     rest_ok = bool(np.all(np.isfinite(data.qvel)) and (len(data.qvel) == 0 or np.max(np.abs(data.qvel)) < MAX_SPEED))
@@ -72,10 +76,58 @@ def mujoco_checks(model_xml):
             if not (np.isfinite(q) and lo - margin <= q <= hi + margin):
                 name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or str(j)
                 failed.append(f"{name}@{target:.3g}->{q:.3g}")
-    return rest_ok, held, failed, sorted(overlaps)
+    return rest_ok, held, failed, sorted(overlaps), filled
 
 
-def pybullet_rest(urdf):
+def _body_hulls(model, data, body):
+    """World-frame vertices of each collision mesh geom of `body` (MuJoCo meshes are convex)."""
+    hulls = []
+    for g in range(model.ngeom):
+        if model.geom_bodyid[g] != body or model.geom_contype[g] == 0 or model.geom_dataid[g] < 0:
+            continue
+        if int(model.geom_type[g]) != int(mujoco.mjtGeom.mjGEOM_MESH):
+            continue
+        m = model.geom_dataid[g]
+        start, count = model.mesh_vertadr[m], model.mesh_vertnum[m]
+        local = model.mesh_vert[start:start + count]
+        hulls.append(local @ data.geom_xmat[g].reshape(3, 3).T + data.geom_xpos[g])
+    return hulls
+
+
+def cavity_filled(model, data, rng=np.random.default_rng(0)):
+    """For each movable joint: the share of its child's collider volume that its parent's
+    colliders also fill at rest (a carcass drawn as one block where the drawer sits)."""
+    from scipy.spatial import Delaunay
+
+    shares = {}
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) not in MOVABLE_TYPES:
+            continue
+        child = model.jnt_bodyid[j]
+        parent = model.body_parentid[child]
+        child_hulls = [Delaunay(h) for h in _body_hulls(model, data, child) if len(h) >= 4]
+        parent_hulls = [Delaunay(h) for h in _body_hulls(model, data, parent) if len(h) >= 4]
+        if not child_hulls or not parent_hulls:
+            continue
+        pts = np.concatenate([h.points for h in child_hulls])
+        lo, hi = pts.min(0), pts.max(0)
+        samples = lo + rng.random((4000, 3)) * (hi - lo)
+        inside = np.zeros(len(samples), bool)
+        for h in child_hulls:
+            inside |= h.find_simplex(samples) >= 0
+        samples = samples[inside]
+        if len(samples) < 20:
+            continue
+        covered = np.zeros(len(samples), bool)
+        for h in parent_hulls:
+            covered |= h.find_simplex(samples) >= 0
+        shares[mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or str(j)] = float(covered.mean())
+    return shares
+
+
+def pybullet_checks(urdf):
+    """PyBullet: the URDF at rest for 2 s, then each joint set to each limit with its motor off
+    and held 0.5 s; returns (rest ok, joint-limits held, failures)."""
     client = p.connect(p.DIRECT)
     try:
         p.setGravity(0, 0, -9.81, physicsClientId=client)
@@ -84,10 +136,28 @@ def pybullet_rest(urdf):
                   if p.getJointInfo(body, j, physicsClientId=client)[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC)]
         for j in joints:
             p.setJointMotorControl2(body, j, p.VELOCITY_CONTROL, force=0, physicsClientId=client)
+        start = p.saveState(physicsClientId=client)
         for _ in range(int(REST_SECS * 240)):
             p.stepSimulation(physicsClientId=client)
         speeds = [abs(s[1]) for s in p.getJointStates(body, joints, physicsClientId=client)] if joints else [0.0]
-        return bool(np.all(np.isfinite(speeds)) and max(speeds) < MAX_SPEED)
+        rest_ok = bool(np.all(np.isfinite(speeds)) and max(speeds) < MAX_SPEED)
+        held, failed = 0, []
+        for j in joints:
+            info = p.getJointInfo(body, j, physicsClientId=client)
+            lo, hi = info[8], info[9]
+            if hi <= lo:
+                continue
+            for target in (lo, hi):
+                p.restoreState(start, physicsClientId=client)
+                p.resetJointState(body, j, target, physicsClientId=client)
+                for _ in range(int(HOLD_SECS * 240)):
+                    p.stepSimulation(physicsClientId=client)
+                q = p.getJointState(body, j, physicsClientId=client)[0]
+                margin = HOLD_TOLERANCE * (hi - lo)
+                held += 1
+                if not (np.isfinite(q) and lo - margin <= q <= hi + margin):
+                    failed.append(f"{info[1].decode()}@{target:.3g}->{q:.3g}")
+        return rest_ok, held, failed
     finally:
         p.disconnect(client)
 
@@ -100,11 +170,11 @@ def one(binary, source, work, extra):
         row["error"] = stderr.splitlines()[-1] if stderr else "no message"
         return row
     try:
-        row["mj_rest"], row["held"], row["failed"], row["overlaps"] = mujoco_checks(out / "model.xml")
+        row["mj_rest"], row["held"], row["failed"], row["overlaps"], row["filled"] = mujoco_checks(out / "model.xml")
     except Exception as error:  # a load failure is a result, reported in the row
         row["mj_error"] = str(error).splitlines()[0]
     try:
-        row["pb_rest"] = pybullet_rest(out / "model.urdf")
+        row["pb_rest"], row["pb_held"], row["pb_failed"] = pybullet_checks(out / "model.urdf")
     except Exception as error:
         row["pb_error"] = str(error).splitlines()[0]
     return row
@@ -129,18 +199,21 @@ def main():
     work = Path(tempfile.mkdtemp(prefix="uniphys-realsim-"))
     rows = []
     print(f"{len(sources)} objects, outputs in {work}", flush=True)
-    print("| object | exit | s | MuJoCo rest | joints held at limits | overlapping at rest | PyBullet rest |")
-    print("|---|---:|---:|---|---:|---|---|")
+    print("| object | exit | s | MuJoCo rest | MuJoCo joints held at limits | overlapping at rest | joints whose parent's colliders fill over half their child | PyBullet rest | PyBullet joints held at limits |")
+    print("|---|---:|---:|---|---|---|---|---|---|")
     with ThreadPoolExecutor(max_workers=2) as pool:
         for row in pool.map(lambda s: one(binary, s, work, extra), sources):
             rows.append(row)
-            held = row.get("held", 0)
-            failed = row.get("failed", [])
+            held, failed = row.get("held", 0), row.get("failed", [])
+            pb_held, pb_failed = row.get("pb_held", 0), row.get("pb_failed", [])
+            filled = sorted(j for j, share in row.get("filled", {}).items() if share > FILLED_SHARE)
             print(f"| {row['object']} | {row['exit']} | {row['secs']:.0f} | "
                   f"{row.get('mj_rest', row.get('mj_error', row.get('error', '-')))} | "
                   f"{held - len(failed)}/{held} {' '.join(failed)} | "
                   f"{len(row.get('overlaps', []))} {' '.join('+'.join(o) for o in row.get('overlaps', [])[:4])} | "
-                  f"{row.get('pb_rest', row.get('pb_error', '-'))} |", flush=True)
+                  f"{len(filled)} {' '.join(filled[:6])} | "
+                  f"{row.get('pb_rest', row.get('pb_error', '-'))} | "
+                  f"{pb_held - len(pb_failed)}/{pb_held} {' '.join(pb_failed)} |", flush=True)
     exported = [r for r in rows if r["exit"] in (0, 1)]
     limit_fail = [r for r in exported if r.get("failed")]
     overlap = [r for r in exported if r.get("overlaps")]
@@ -154,6 +227,12 @@ def main():
     print(f"| a joint leaves its range by over 5 % when held at a limit | {len(limit_fail)} ({100 * len(limit_fail) / max(len(exported), 1):.1f} %) |")
     print(f"| joints x limits held | {sum(r.get('held', 0) - len(r.get('failed', [])) for r in exported)} of {sum(r.get('held', 0) for r in exported)} |")
     print(f"| colliders of two bodies overlap at rest (> 1 mm) | {len(overlap)} |")
+    pb_fail = [r for r in exported if r.get("pb_failed")]
+    print(f"| PyBullet: a joint leaves its range by over 5 % when set at a limit | {len(pb_fail)} |")
+    print(f"| PyBullet: joints x limits held | {sum(r.get('pb_held', 0) - len(r.get('pb_failed', [])) for r in exported)} of {sum(r.get('pb_held', 0) for r in exported)} |")
+    filled = [(r["object"], j) for r in exported for j, share in r.get("filled", {}).items() if share > FILLED_SHARE]
+    judged = sum(len(r.get("filled", {})) for r in exported)
+    print(f"| joints whose parent's colliders fill over half of their child at rest | {len(filled)} of {judged} |")
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
 

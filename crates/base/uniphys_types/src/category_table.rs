@@ -504,7 +504,7 @@ pub const CATEGORY_PRIORS: [CategoryPrior; 56] = [
         0.17,
         0.3,
         (Metal, "steel"),
-        PACKED,
+        HOLLOW,
     ),
     row(
         "Hammer",

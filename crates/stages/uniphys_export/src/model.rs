@@ -115,7 +115,10 @@ impl<'a> Model<'a> {
         // bodies welded to the world, so the root's children need it said) nor with a part it
         // touches at rest (their hulls overlap where the meshes meet).
         let mut exclude_pairs = Vec::new();
-        let jointed = record.joints.iter().map(|j| (j.parent, j.child, ExcludeReason::Jointed));
+        let jointed = record
+            .joints
+            .iter()
+            .map(|j| (j.parent, j.child, ExcludeReason::Jointed));
         let touching = input
             .touching_pairs
             .iter()

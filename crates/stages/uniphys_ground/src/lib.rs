@@ -9,7 +9,8 @@
 //!   body material (`uniphys_types::CategoryPrior`);
 //! - object name, category, dimensions and mass ([`object_properties`]);
 //! - how much material a part holds: its solid or a wall along its surface, whichever is less
-//!   ([`part_mass_model`]);
+//!   ([`part_mass_model`]); the walls' thickness calibrated by the kind's typical mass
+//!   ([`wall_factor`]);
 //! - joints ([`articulate`]): declared ones completed; when no part name says that it slides or
 //!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
 //!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
@@ -24,6 +25,7 @@
 //!   ([`joint_dynamics`]).
 
 mod articulate;
+mod calibrate;
 mod dynamics;
 mod error;
 mod hinge_range;
@@ -44,9 +46,11 @@ mod unnamed;
 mod wall;
 
 pub use articulate::{Articulation, PartInput, articulate, sanitize};
+pub use calibrate::{MAX_WALL_FACTOR, TYPICAL_MASS_WEIGHT, wall_factor};
 pub use dynamics::{
-    DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, MIN_DAMPING_TIME_CONSTANT_SECS,
-    HOLDING_MARGIN, RigidMass, holding_friction, joint_dynamics, max_stable_damping, parallel_axis,
+    DAMPING_TIME_CONSTANT_SECS, FRICTION_FRACTION_OF_WEIGHT, HOLDING_MARGIN,
+    MIN_DAMPING_TIME_CONSTANT_SECS, RigidMass, holding_friction, joint_dynamics,
+    max_stable_damping, parallel_axis,
 };
 pub use error::{GroundError, GroundResult};
 pub use object::{ObjectKind, object_kind, object_properties};

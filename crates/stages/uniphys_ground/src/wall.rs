@@ -17,9 +17,17 @@ const MIN_WALL_SIZE_FACTOR: f64 = 0.5;
 /// are moulded or cast through, their walls would be most of them.
 const SOLID_PART_SIZE_M: f64 = 0.05;
 
-/// The usual wall thickness of parts made of `material`, m: appliance sheet steel 0.8 mm,
-/// moulded plastic 2.5 mm, furniture board 18 mm, glass 4 mm.
-fn usual_wall_m(material: MaterialCategory) -> f64 {
+/// Brass parts are cast or forged (a faucet's body, a valve, a fitting), not pressed from sheet:
+/// their walls are about 3 mm.
+const CAST_BRASS_WALL_M: f64 = 0.003;
+
+/// The usual wall thickness of parts made of `material` (`subtype` refines it), m: appliance
+/// sheet steel 0.8 mm, cast brass 3 mm, moulded plastic 2.5 mm, furniture board 18 mm, glass
+/// 4 mm.
+fn usual_wall_m(material: MaterialCategory, subtype: &str) -> f64 {
+    if material == MaterialCategory::Metal && subtype.to_ascii_lowercase().contains("brass") {
+        return CAST_BRASS_WALL_M;
+    }
     match material {
         MaterialCategory::Metal => 0.0008,
         MaterialCategory::Fabric => 0.001,
@@ -36,11 +44,12 @@ fn usual_wall_m(material: MaterialCategory) -> f64 {
     }
 }
 
-/// Wall thickness of a part of `material` whose largest side is `largest_side_m`, m.
+/// Wall thickness of a part of `material` (of `subtype`, possibly empty) whose largest side is
+/// `largest_side_m`, m.
 #[must_use]
-pub fn wall_thickness_m(material: MaterialCategory, largest_side_m: f64) -> f64 {
+pub fn wall_thickness_m(material: MaterialCategory, subtype: &str, largest_side_m: f64) -> f64 {
     let ratio = (largest_side_m.max(0.0) / WALL_REFERENCE_SIZE_M).sqrt();
-    usual_wall_m(material) * ratio.clamp(MIN_WALL_SIZE_FACTOR, 1.0)
+    usual_wall_m(material, subtype) * ratio.clamp(MIN_WALL_SIZE_FACTOR, 1.0)
 }
 
 /// What a part's mass model is made from.
@@ -56,6 +65,8 @@ pub struct PartMassInput<'a> {
     pub hulls: &'a [TriMesh],
     /// The part's material.
     pub material: MaterialCategory,
+    /// Its subtype (`steel`, `brass`), possibly empty.
+    pub subtype: &'a str,
     /// Largest side of the part's box, m.
     pub largest_side_m: f64,
     /// How much of what the walls enclose is filled: the object kind's `interior_fill`, or
@@ -85,7 +96,7 @@ pub fn part_mass_model(input: &PartMassInput<'_>) -> PartMassModel {
         mass: *input.solid,
         method: input.solid_method.to_string(),
     };
-    let thickness_m = wall_thickness_m(input.material, input.largest_side_m);
+    let thickness_m = wall_thickness_m(input.material, input.subtype, input.largest_side_m);
     if !walls_matter(input.solid_method, input.interior_fill) {
         return solid_model();
     }
@@ -164,6 +175,7 @@ mod tests {
             walls: walls.as_ref(),
             hulls: &[],
             material,
+            subtype: "",
             largest_side_m: mesh.bounds().extents().max_element(),
             interior_fill: fill,
         })
@@ -179,7 +191,7 @@ mod tests {
         let m = model(&body, MaterialCategory::Metal);
         assert!(m.method.starts_with("shell_"), "{}", m.method);
         let area = 2.0 * (0.7 * 0.7 + 2.0 * 0.7 * 1.8);
-        let wall = wall_thickness_m(MaterialCategory::Metal, 1.8);
+        let wall = wall_thickness_m(MaterialCategory::Metal, "", 1.8);
         assert!((m.mass.volume_m3 - area * wall).abs() < 1e-9 * area);
         // Steel at 7850 kg/m^3: tens of kilograms, where a solid body would weigh tonnes.
         let kg = m.mass.mass_kg(7850.0);
@@ -208,7 +220,7 @@ mod tests {
         .unwrap();
         let m = model(&lid, MaterialCategory::Plastic);
         assert!(m.method.starts_with("shell_"), "{}", m.method);
-        let wall = wall_thickness_m(MaterialCategory::Plastic, 0.4);
+        let wall = wall_thickness_m(MaterialCategory::Plastic, "", 0.4);
         assert!(
             (m.mass.volume_m3 - 0.12 * wall).abs() < 1e-12,
             "{}",
@@ -225,8 +237,15 @@ mod tests {
     }
 
     #[test]
+    fn brass_is_cast_thicker_than_sheet_steel() {
+        let brass = wall_thickness_m(MaterialCategory::Metal, "brass", 0.5);
+        assert!((brass - CAST_BRASS_WALL_M).abs() < 1e-12);
+        assert!(wall_thickness_m(MaterialCategory::Metal, "steel", 0.5) < 0.3 * brass);
+    }
+
+    #[test]
     fn small_parts_have_thinner_walls_down_to_half_the_usual() {
-        let t = |size| wall_thickness_m(MaterialCategory::Plastic, size);
+        let t = |size| wall_thickness_m(MaterialCategory::Plastic, "", size);
         assert!(t(0.1) < t(0.3) && t(0.3) < t(0.5));
         assert!((t(0.5) - 0.0025).abs() < 1e-12);
         assert!((t(100.0) - 0.0025).abs() < 1e-12);

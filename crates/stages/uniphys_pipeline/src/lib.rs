@@ -9,6 +9,7 @@ mod colors;
 mod error;
 mod learned;
 mod lvlm;
+mod mass_calibration;
 mod parallel;
 mod preview;
 mod progress;

@@ -30,6 +30,7 @@ use uniphys_types::{
 use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
+use crate::mass_calibration::calibrate_walls;
 use crate::parallel::par_map;
 use crate::preview::{PREVIEW_PATH, preview_png};
 use crate::real_scale::auto_scale;
@@ -431,6 +432,7 @@ fn ground(
             walls: prep.walls.as_ref(),
             hulls: &colliders[i],
             material: properties.material.value.category,
+            subtype: &properties.material.value.subtype,
             largest_side_m: bounds.extents().max_element(),
             interior_fill: kind.map(|k| k.prior.interior_fill),
         });
@@ -465,6 +467,7 @@ fn ground(
             },
         });
     }
+    let calibration = kind.map(|k| calibrate_walls(&mut parts, &mut rigid, k.prior.mass_kg));
     let inputs: Vec<PartInput<'_>> = asset
         .parts
         .iter()
@@ -486,6 +489,12 @@ fn ground(
         "mass: {shells} of {} parts are walls along their surface (less material than the solid they enclose), the others solid",
         asset.parts.len()
     ));
+    if let Some(factor) = calibration.filter(|f| (f - 1.0).abs() > 1e-9) {
+        articulation.notes.push(format!(
+            "mass: the walls' mass x {factor:.2}, so that the object's mass is the geometric mean of the parts' own estimate and the kind's typical {:.3} kg",
+            kind.map_or(f64::NAN, |k| k.prior.mass_kg)
+        ));
+    }
     let record = AssetRecord {
         schema_version: SCHEMA_VERSION,
         name: name.to_owned(),

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use uniphys_pipeline::{NoProgress, RunOptions, RunOutput, run};
-use uniphys_types::{AssetRecord, CheckOutcome, VerificationReport};
+use uniphys_types::{AssetRecord, CheckOutcome, Provenance, VerificationReport};
 
 /// An OBJ with the given vertices and triangles (1-based indices as OBJ has them).
 fn obj(vertices: &[[f64; 3]], faces: &[[usize; 3]]) -> String {
@@ -170,6 +170,14 @@ fn a_partnet_folder_takes_the_size_of_the_kind_its_meta_json_names_and_weighs_li
         );
         assert_eq!(part.properties.material.value.subtype, "steel");
     }
+    // The walls' thickness is calibrated by the kind's typical mass: every part's method names
+    // the same factor.
+    let factor: f64 = record.parts[0]
+        .mass
+        .volume_method
+        .rsplit_once("_x")
+        .and_then(|(_, f)| f.parse().ok())
+        .expect("a calibration factor");
     // The zero-thickness door: its area once (drawn on both sides) times the steel wall.
     let door = record
         .parts
@@ -178,9 +186,35 @@ fn a_partnet_folder_takes_the_size_of_the_kind_its_meta_json_names_and_weighs_li
         .expect("the door part");
     let area_m2 = 0.8 * 1.4 * (1.75 / 1.4_f64).powi(2);
     assert!(
-        (door.mass.volume_m3 / (area_m2 * 0.0008) - 1.0).abs() < 0.01,
+        (door.mass.volume_m3 / factor / (area_m2 * 0.0008) - 1.0).abs() < 0.01,
         "{} m^3",
         door.mass.volume_m3
+    );
+    // The walls' own estimate and the kind's typical 80 kg meet halfway, in log space; density
+    // times volume is each part's mass, and the parts' masses sum to the object's.
+    let parts_kg: f64 = record
+        .parts
+        .iter()
+        .map(|p| {
+            let kg = p.mass.volume_m3 * p.properties.density_kg_per_m3.value;
+            assert!((kg - p.mass.mass_kg.value).abs() < 1e-9 * kg, "{}", p.name);
+            kg
+        })
+        .sum();
+    assert!((parts_kg - mass).abs() < 1e-9 * mass);
+    let own_kg = mass / factor;
+    assert!(
+        (mass / (own_kg * 80.0).sqrt() - 1.0).abs() < 1e-3,
+        "{mass} kg from {own_kg} kg"
+    );
+    assert!(record.parts.iter().all(|p| p.mass.mass_kg.provenance
+        == Provenance::rule(
+            "density_times_surface_area_times_wall_thickness_calibrated_to_kind_mass"
+        )));
+    assert!(
+        notes(&output).contains("geometric mean"),
+        "{}",
+        notes(&output)
     );
     let checks = plausibility(&output.report);
     assert_eq!(checks.len(), 2, "mass and size judged: {checks:?}");
