@@ -7,6 +7,7 @@
 
 mod aabb;
 mod bitset;
+mod carve;
 mod color;
 mod components;
 mod contact;
@@ -33,6 +34,7 @@ mod voxel;
 mod voxel_raster;
 
 pub use aabb::Aabb;
+pub use carve::{OrientedBox, carve_out};
 pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;
 pub use contact::{ContactParams, ContactRegion, contact_region, min_distance_m};

@@ -5,6 +5,7 @@
 //! export.
 //! The job-queue workers run the same stage functions; `uniphys run` calls [`run`].
 
+mod cavities;
 mod colors;
 mod error;
 mod learned;

@@ -18,8 +18,8 @@ use uniphys_geometry::{
     convex_decomposition, min_distance_m, solid_mass_properties,
 };
 use uniphys_ground::{
-    ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part, object_kind,
-    object_properties, part_mass_model, sanitize, walls_matter,
+    MAX_WALL_FACTOR, ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part,
+    object_kind, object_properties, part_mass_model, sanitize, walls_matter,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{
@@ -27,6 +27,7 @@ use uniphys_types::{
     ReportSection, SCHEMA_VERSION, VerificationReport,
 };
 
+use crate::cavities::carve_cavities;
 use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
@@ -349,6 +350,13 @@ pub fn run(
         Ok(((verified.record.clone(), verified, touching), summary))
     })?;
     notes.extend(verified.corrections.iter().cloned());
+    let mut colliders = colliders;
+    let carved = carve_cavities(&record, &meshes, &mut colliders);
+    if carved > 0 {
+        notes.push(format!(
+            "colliders: the hulls of {carved} parents carved around the parts jointed to them, which leaves room where they move"
+        ));
+    }
 
     let (artifacts, report) = clock.stage(Stage::Export, || {
         let colors: Vec<[f32; 4]> = asset
@@ -491,7 +499,7 @@ fn ground(
     ));
     if let Some(factor) = calibration.filter(|f| (f - 1.0).abs() > 1e-9) {
         articulation.notes.push(format!(
-            "mass: the walls' mass x {factor:.2}, so that the object's mass is the geometric mean of the parts' own estimate and the kind's typical {:.3} kg",
+            "mass: the walls' mass x {factor:.2}, toward the geometric mean of the parts' own estimate and the kind's typical {:.3} kg (walls change at most {MAX_WALL_FACTOR}x either way)",
             kind.map_or(f64::NAN, |k| k.prior.mass_kg)
         ));
     }
