@@ -132,7 +132,10 @@ mod tests {
 
     fn inside_cavity(p: DVec3) -> bool {
         let c = cavity();
-        (p - c.centre).abs().cmplt(c.half_extents - DVec3::splat(1e-9)).all()
+        (p - c.centre)
+            .abs()
+            .cmplt(c.half_extents - DVec3::splat(1e-9))
+            .all()
     }
 
     #[test]
@@ -168,6 +171,9 @@ mod tests {
         let b = OrientedBox::of_points(&points).expect("a box");
         let mut half = b.half_extents.to_array();
         half.sort_by(f64::total_cmp);
-        assert!((half[0] - 0.3).abs() < 1e-6 && (half[2] - 0.5).abs() < 1e-6, "{half:?}");
+        assert!(
+            (half[0] - 0.3).abs() < 1e-6 && (half[2] - 0.5).abs() < 1e-6,
+            "{half:?}"
+        );
     }
 }
