@@ -499,7 +499,7 @@ fn ground(
     ));
     if let Some(factor) = calibration.filter(|f| (f - 1.0).abs() > 1e-9) {
         articulation.notes.push(format!(
-            "mass: the walls' mass x {factor:.2}, toward the geometric mean of the parts' own estimate and the kind's typical {:.3} kg (walls change at most {MAX_WALL_FACTOR}x either way)",
+            "mass: the walls' mass x {factor:.2}, the square root of the kind's typical {:.3} kg over the parts' own estimate (walls alone then weigh the geometric mean of the two; at most {MAX_WALL_FACTOR}x either way)",
             kind.map_or(f64::NAN, |k| k.prior.mass_kg)
         ));
     }
