@@ -5,9 +5,9 @@
 
 use glam::DVec3;
 
-use crate::{TriMesh, box_axes, convex_hull, projection_range};
+use crate::{TriMesh, convex_hull};
 
-/// A box with its own axes (a part's tight box).
+/// A box with its own axes (a part's tight box: `uniphys_verify::PartBox::oriented`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrientedBox {
     /// Centre, object frame.
@@ -19,27 +19,6 @@ pub struct OrientedBox {
 }
 
 impl OrientedBox {
-    /// The tight box of `points` ([`box_axes`]); `None` for fewer than 4 points.
-    #[must_use]
-    pub fn of_points(points: &[DVec3]) -> Option<Self> {
-        if points.len() < 4 {
-            return None;
-        }
-        let axes = box_axes(points);
-        let mut centre = DVec3::ZERO;
-        let mut half = [0.0; 3];
-        for (k, axis) in axes.iter().enumerate() {
-            let (lo, hi) = projection_range(points, *axis);
-            centre += *axis * (0.5 * (lo + hi));
-            half[k] = 0.5 * (hi - lo);
-        }
-        Some(Self {
-            centre,
-            axes,
-            half_extents: DVec3::from_array(half),
-        })
-    }
-
     /// The box with each extent multiplied by `factor` about its centre.
     #[must_use]
     pub fn scaled(&self, factor: f64) -> Self {
@@ -158,22 +137,5 @@ mod tests {
         assert_eq!(carve_out(&beside, &cavity(), 1e-3), vec![beside.clone()]);
         let rail = TriMesh::cuboid(DVec3::new(-0.1, -0.1, 0.4), DVec3::new(0.1, 0.1, 0.45));
         assert!(carve_out(&rail, &cavity(), 1e-3).is_empty());
-    }
-
-    #[test]
-    fn the_box_of_a_turned_slab_has_its_edges() {
-        let r = glam::DMat3::from_rotation_z(0.5);
-        let points: Vec<DVec3> = TriMesh::cuboid(DVec3::splat(-0.5), DVec3::new(0.5, 0.2, 0.1))
-            .positions
-            .iter()
-            .map(|p| r * *p)
-            .collect();
-        let b = OrientedBox::of_points(&points).expect("a box");
-        let mut half = b.half_extents.to_array();
-        half.sort_by(f64::total_cmp);
-        assert!(
-            (half[0] - 0.3).abs() < 1e-6 && (half[2] - 0.5).abs() < 1e-6,
-            "{half:?}"
-        );
     }
 }

@@ -4,8 +4,9 @@
 //! change: every carved piece lies inside a hull the verification simulated, so no contact the
 //! export keeps is new.
 
-use uniphys_geometry::{OrientedBox, TriMesh, carve_out, sample_points};
+use uniphys_geometry::{TriMesh, carve_out, sample_points};
 use uniphys_types::AssetRecord;
+use uniphys_verify::PartBox;
 
 /// A child whose box diagonal is under this share of its parent's is a control (a knob, a
 /// button): a gripper does not reach into its place, and carving would multiply hulls.
@@ -26,24 +27,33 @@ pub(crate) fn carve_cavities(
     colliders: &mut [Vec<TriMesh>],
 ) -> usize {
     let index = |id| record.parts.iter().position(|p| p.id == id);
-    let boxes: Vec<Option<OrientedBox>> = meshes
+    let pairs: Vec<(usize, usize)> = record
+        .joints
         .iter()
-        .map(|m| OrientedBox::of_points(&sample_points(m, BOX_SAMPLES, 0x0ca7)))
+        .filter(|j| j.kind.is_movable())
+        .filter_map(|j| Some((index(j.child)?, index(j.parent)?)))
         .collect();
-    let diagonal = |b: &OrientedBox| 2.0 * b.half_extents.length();
+    // The boxes of the parts those joints connect, and of no other.
+    let boxes: Vec<Option<PartBox>> = (0..meshes.len())
+        .map(|i| {
+            pairs
+                .iter()
+                .any(|&(c, p)| c == i || p == i)
+                .then(|| sample_points(&meshes[i], BOX_SAMPLES, 0x0ca7))
+                .filter(|points| points.len() >= 4)
+                .map(|points| PartBox::of(&points))
+        })
+        .collect();
     let mut carved = 0;
-    for joint in record.joints.iter().filter(|j| j.kind.is_movable()) {
-        let (Some(child), Some(parent)) = (index(joint.child), index(joint.parent)) else {
+    for (child, parent) in pairs {
+        let (Some(child_box), Some(parent_box)) = (&boxes[child], &boxes[parent]) else {
             continue;
         };
-        let (Some(child_box), Some(parent_box)) = (boxes[child], boxes[parent]) else {
-            continue;
-        };
-        let size = diagonal(&child_box);
-        if size < CHILD_SIZE_MIN_FRACTION * diagonal(&parent_box) {
+        let size = child_box.diagonal;
+        if size < CHILD_SIZE_MIN_FRACTION * parent_box.diagonal {
             continue;
         }
-        let cavity = child_box.scaled(CAVITY_SCALE);
+        let cavity = child_box.oriented().scaled(CAVITY_SCALE);
         let before = colliders[parent].clone();
         let after: Vec<TriMesh> = before
             .iter()

@@ -1,6 +1,6 @@
 //! A part's box along its own box axes, from its surface samples.
 
-use uniphys_geometry::{DVec3, box_axes, projection_range};
+use uniphys_geometry::{DVec3, OrientedBox, box_axes, projection_range};
 
 /// A part's box: axes, projection ranges, centre and diagonal (object frame, metres).
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +37,17 @@ impl PartBox {
         }
     }
 
+    /// The same box as its centre, axes and half extents (what [`uniphys_geometry::carve_out`]
+    /// carves hulls around).
+    #[must_use]
+    pub fn oriented(&self) -> OrientedBox {
+        OrientedBox {
+            centre: self.centre,
+            axes: self.axes,
+            half_extents: DVec3::new(self.extent(0), self.extent(1), self.extent(2)) * 0.5,
+        }
+    }
+
     /// The extent along axis `k`.
     #[must_use]
     pub fn extent(&self, k: usize) -> f64 {
@@ -57,5 +68,28 @@ impl PartBox {
         let mut e = [self.extent(0), self.extent(1), self.extent(2)];
         e.sort_by(f64::total_cmp);
         e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_oriented_box_of_a_turned_slab_has_its_edges() {
+        let r = uniphys_geometry::DMat3::from_rotation_z(0.5);
+        let points: Vec<DVec3> =
+            uniphys_geometry::TriMesh::cuboid(DVec3::splat(-0.5), DVec3::new(0.5, 0.2, 0.1))
+                .positions
+                .iter()
+                .map(|p| r * *p)
+                .collect();
+        let b = PartBox::of(&points).oriented();
+        let mut half = b.half_extents.to_array();
+        half.sort_by(f64::total_cmp);
+        assert!(
+            (half[0] - 0.3).abs() < 1e-6 && (half[2] - 0.5).abs() < 1e-6,
+            "{half:?}"
+        );
     }
 }
