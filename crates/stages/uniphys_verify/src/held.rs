@@ -1,6 +1,7 @@
 //! How a moving part is held at rest, measured for the sweep: a turning axis against its parent
 //! and its part, a short slide's gap to its parent, and the parent's surface normals where a
-//! slide touches it (a face it presses into, walls that guide it).
+//! slide touches it (a face it presses into, walls that guide it). A long slide's slot is in
+//! `slot`.
 
 use uniphys_geometry::{Aabb, DMat3, DVec3, symmetric_eigen};
 use uniphys_types::JointKind;

@@ -32,6 +32,7 @@ mod patch;
 mod penetration;
 mod plausibility;
 mod scene;
+mod slot;
 mod sweep;
 mod verdict;
 

@@ -14,6 +14,7 @@ use crate::held::{
 use crate::motion::{JointMotion, sweep_coordinates};
 use crate::patch::{PatchParams, grow_patch};
 use crate::scene::Scene;
+use crate::slot::walled_sides;
 use crate::{VerifyError, VerifyResult};
 
 /// Parameters of a sweep. Distances are fractions of the object diagonal.
@@ -67,6 +68,10 @@ pub struct SweepParams {
     /// share of the panel's reach from the axis: the handle is near the free edge (true hinges
     /// of real objects: at least 0.47; moved to the opposite edge: at most 0.35).
     pub hinge_handle_fraction_min: f64,
+    /// A long slide (a drawer) runs in a slot: its parent walls it in on at least this many of
+    /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
+    /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
+    pub long_slide_walled_sides_min: usize,
     /// A turning joint fails when its axis line passes farther than this fraction of the moving
     /// group's diagonal from the group's surface: a hinge pin or spin axis is held by the part it
     /// turns (true joints of real objects: at most 3.3 %).
@@ -97,6 +102,7 @@ impl Default for SweepParams {
             short_slide_press_min: 0.5,
             short_slide_guidance_min: 0.15,
             hinge_handle_fraction_min: 0.4,
+            long_slide_walled_sides_min: 2,
             seed: 7,
         }
     }
@@ -170,13 +176,16 @@ pub struct SweepMetrics {
     pub short_slide_gap_growth_m: f64,
     /// Short slides: the gap growth allowed, metres (0 for other joints).
     pub short_slide_gap_max_m: f64,
-    /// Short slides: how much the slide presses into the face it touches at rest (`a^T T a`
-    /// over `T`'s largest eigenvalue, see `SweepParams::short_slide_press_min`); 1 for other
-    /// joints or without contact normals.
+    /// Slides: how much the slide presses into (or lifts off) the face it touches at rest
+    /// (`a^T T a` over `T`'s largest eigenvalue, see `SweepParams::short_slide_press_min`); 1
+    /// for turning joints or without contact normals.
     pub short_slide_press: f64,
     /// Short slides: how much walls guide the slide (the smaller eigenvalue of `T` across the
     /// axis); 0 for other joints.
     pub short_slide_guidance: f64,
+    /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
+    /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
+    pub long_slide_walled_sides: usize,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -331,6 +340,7 @@ pub fn sweep(
         short_slide_gap_max_m: 0.0,
         short_slide_press: 1.0,
         short_slide_guidance: 0.0,
+        long_slide_walled_sides: 4,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
@@ -357,7 +367,11 @@ pub fn sweep(
             away,
         );
     }
-    if let Some(Some(_)) = short_slide {
+    if short_slide == Some(None) {
+        metrics.long_slide_walled_sides =
+            walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+    }
+    if joint.kind == JointKind::Prismatic {
         let touch_m = slide_touch_m(params, &moving_points);
         if let Some(tensor) = contact_normal_tensor(scene, parent, &moving_points, touch_m) {
             (metrics.short_slide_press, metrics.short_slide_guidance) =

@@ -18,6 +18,9 @@ impl SweepMetrics {
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
     /// - short slides: the part moves away from its parent (a button pulled out), or across the
     ///   face it sits on (neither pressing into it nor guided by walls);
+    /// - long slides: the part runs in no slot of its parent (walled in on too few sides across
+    ///   the axis) and does not lift off the face it sits on (a door or lid pushed along its
+    ///   own face);
     /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
     ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
     ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
@@ -73,6 +76,15 @@ impl SweepMetrics {
                 params.short_slide_guidance_min
             ));
         }
+        if self.long_slide_unheld(params) {
+            reasons.push(format!(
+                "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and it presses into the face it sits on {:.2} (at least {:.2})",
+                self.long_slide_walled_sides,
+                params.long_slide_walled_sides_min,
+                self.short_slide_press,
+                params.short_slide_press_min
+            ));
+        }
         if self.short_slide_left_parent() {
             reasons.push(format!(
                 "a short slide leaves its parent: {:.4} m further away than at rest (at most {:.4} m)",
@@ -99,7 +111,7 @@ impl SweepMetrics {
     /// its share of steps, a severe overlap change 1 plus five times its excess of bad steps, a
     /// short slide leaving its parent 1 plus its gap over the allowed one. Failures no change of
     /// range can mend count 2 plus their excess: an axis clear of the part, a hinge at its
-    /// handle, a short slide across its face. 10 without contact at rest. At most 1 when the
+    /// handle, a short slide across its face; a long slide in no slot counts 2.5. 10 without contact at rest. At most 1 when the
     /// sweep passes: then the margin to each rule (a short slide's gap growth over the allowed
     /// one, the axis's distance from the part over the allowed one, the least handle distance
     /// over the handle's), so a press is preferred to a pull and a hinge across the part from
@@ -138,6 +150,9 @@ impl SweepMetrics {
         }
         if let Some(f) = self.hinge_at_handle(params) {
             s = s.max(3.0 - f / params.hinge_handle_fraction_min);
+        }
+        if self.long_slide_unheld(params) {
+            s = s.max(2.5);
         }
         if self.short_slide_unheld(params) {
             let held = (self.short_slide_press / params.short_slide_press_min)
@@ -178,6 +193,12 @@ impl SweepMetrics {
         self.short_slide_gap_max_m > 0.0
             && self.short_slide_press < params.short_slide_press_min
             && self.short_slide_guidance < params.short_slide_guidance_min
+    }
+
+    /// A long slide runs in no slot and does not lift off the face it sits on.
+    fn long_slide_unheld(&self, params: &SweepParams) -> bool {
+        self.long_slide_walled_sides < params.long_slide_walled_sides_min
+            && self.short_slide_press < params.short_slide_press_min
     }
 
     /// A short slide moved its part away from its parent by more than it may.
@@ -235,6 +256,10 @@ impl SweepMetrics {
             ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
             ("short_slide_press", self.short_slide_press),
             ("short_slide_guidance", self.short_slide_guidance),
+            (
+                "long_slide_walled_sides",
+                self.long_slide_walled_sides as f64,
+            ),
         ];
         entries
             .into_iter()

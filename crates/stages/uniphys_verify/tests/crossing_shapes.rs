@@ -50,7 +50,12 @@ fn a_board_sliding_flush_along_a_block_goes_through_nothing() {
     let metrics = sweep(&scene(0.0), &slide(), &[2], &params).expect("sweep");
     assert!(metrics.clear_points > 0);
     assert_eq!(metrics.crossed_points, 0, "{metrics:?}");
-    assert!(metrics.failures(&params).is_empty(), "{metrics:?}");
+    // Nothing walls the board in (it runs in no slot, a failure of its own); it crosses nothing.
+    let reasons = metrics.failures(&params);
+    assert!(
+        !reasons.iter().any(|r| r.contains("passes through")),
+        "{reasons:?}"
+    );
 }
 
 #[test]

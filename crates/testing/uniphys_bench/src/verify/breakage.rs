@@ -33,6 +33,17 @@ impl Breakage {
         Self::RevoluteToPrismatic,
     ];
 
+    /// Short name for the command line.
+    pub(crate) fn key(self) -> &'static str {
+        match self {
+            Self::AxisTurned => "axis",
+            Self::PivotOpposite => "pivot",
+            Self::Reversed => "reversed",
+            Self::PrismaticToRevolute => "p2r",
+            Self::RevoluteToPrismatic => "r2p",
+        }
+    }
+
     /// Name for tables.
     pub(crate) fn name(self) -> &'static str {
         match self {

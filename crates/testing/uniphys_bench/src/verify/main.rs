@@ -40,6 +40,9 @@ struct Args {
     /// Skip the deliberate breakages (true joints and pivot candidates only).
     #[arg(long)]
     no_breakage: bool,
+    /// Only these breakages (axis, pivot, reversed, p2r, r2p); all when none is given.
+    #[arg(long, num_args = 1..)]
+    breakage: Vec<String>,
     /// Write every joint's outcome as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -65,7 +68,15 @@ fn bench(args: &Args) -> anyhow::Result<()> {
     for (i, dir) in dirs.iter().enumerate() {
         let name = folder_name(dir);
         eprint!("[{}/{}] {name} ... ", i + 1, dirs.len());
-        let result = object::judge_object(dir, !args.no_breakage);
+        let breakages: Vec<breakage::Breakage> = if args.no_breakage {
+            Vec::new()
+        } else {
+            breakage::Breakage::ALL
+                .into_iter()
+                .filter(|b| args.breakage.is_empty() || args.breakage.iter().any(|k| k == b.key()))
+                .collect()
+        };
+        let result = object::judge_object(dir, &breakages);
         match &result {
             Ok(r) => eprintln!(
                 "{} joints, {} pass, {:.1} s",

@@ -64,7 +64,7 @@ pub(crate) struct ObjectResult {
 }
 
 /// Ingests the object at `dir`, builds its colliders and scene, and judges its joints.
-pub(crate) fn judge_object(dir: &Path, breakages: bool) -> anyhow::Result<ObjectResult> {
+pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result<ObjectResult> {
     let start = Instant::now();
     let mut loaded = load_asset(dir, &IngestOptions::default())?;
     loaded.asset.rest_on_ground();
@@ -112,19 +112,15 @@ pub(crate) fn judge_object(dir: &Path, breakages: bool) -> anyhow::Result<Object
             .then(|| nearest_pivot(&scene, &truth, joint, &child_points))
             .flatten()
             .map(|d| d * scale);
-        let broken: Vec<(Breakage, Vec<Joint>)> = if breakages {
-            Breakage::ALL
-                .iter()
-                .filter_map(|&b| {
-                    let wrong = b.apply(joint, &child_points, scale)?;
-                    let mut set = truth.clone();
-                    set[i] = wrong;
-                    Some((b, set))
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let broken: Vec<(Breakage, Vec<Joint>)> = breakages
+            .iter()
+            .filter_map(|&b| {
+                let wrong = b.apply(joint, &child_points, scale)?;
+                let mut set = truth.clone();
+                set[i] = wrong;
+                Some((b, set))
+            })
+            .collect();
         let judged = parallel_map(&broken, |(_, set)| {
             verify_joint(&scene, set, i, &params, true)
         });
