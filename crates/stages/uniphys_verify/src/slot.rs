@@ -20,7 +20,8 @@ const WALLED_RAY_SHARE: f64 = 0.5;
 /// parent walls in the moving part (its samples `moving`): from points inside the part's box,
 /// spread along the slide and across it, rays go towards each side as far as the part reaches
 /// plus a quarter of its diagonal; a side whose rays mostly meet the parent's surface is walled.
-/// A drawer in its carcass: 3 or 4; a door or lid pushed along its face: 0 or 1.
+/// Real drawers of the shared objects: 2 to 4 (one hanging under a table top alone: 1); a door,
+/// lid or screen pushed along its own face: usually 0 or 1.
 pub(crate) fn walled_sides(scene: &Scene, parent: usize, moving: &[DVec3], axis: DVec3) -> usize {
     let axis = axis.normalize_or_zero();
     if moving.is_empty() || axis == DVec3::ZERO {
