@@ -148,7 +148,8 @@ const BAND_FRACTIONS: [f64; 2] = [0.05, 0.2];
 /// Pivots of lines along `axis` where a hinge may run inside a part's edge: across the axis (along
 /// the part's box axis, of `part_axes`, least aligned with it, and the direction across both),
 /// the part's points (`part_points`) in a band at each of its four sides (see `BAND_FRACTIONS`) span a
-/// rectangle; its corners, side middles and centre give a line each. Real hinges seldom lie on
+/// rectangle; its corners, side middles and centre give a line each; so do the points of the
+/// part's whole cross-section at quarters of its width and depth. Real hinges seldom lie on
 /// the part's box edge: a door's box grows with its handle and frame, and its hinge sits inside
 /// the panel's own thickness. Lines closer than 0.5 % of the part's diagonal are given once;
 /// each point lies at the middle of the part along the axis. Object frame, metres.
@@ -207,8 +208,19 @@ pub fn band_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3; 3]) ->
             }
         }
     }
+    // The whole cross-section at quarters: a rocker's or a blade's pivot sits inside the part,
+    // between its edges and its middle.
+    for fu in QUARTERS {
+        for fv in QUARTERS {
+            let at = |(lo, hi): (f64, f64), f: f64| lo + f * (hi - lo);
+            out.push(axis * middle + u * at(ranges[0], fu) + v * at(ranges[1], fv));
+        }
+    }
     distinct_lines(&out, axis, 5e-3 * diagonal)
 }
+
+/// Fractions of a part's cross-section across an axis where [`band_pivots`] also put lines.
+const QUARTERS: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 
 /// The first of `pivots` on each distinct line along `axis`: a pivot within `min_apart_m` of a
 /// line already kept is on it.
