@@ -180,8 +180,8 @@ pub struct SweepMetrics {
     /// (`a^T T a` over `T`'s largest eigenvalue, see `SweepParams::short_slide_press_min`); 1
     /// for turning joints or without contact normals.
     pub short_slide_press: f64,
-    /// Short slides: how much walls guide the slide (the smaller eigenvalue of `T` across the
-    /// axis); 0 for other joints.
+    /// Slides: how much walls guide the slide (the smaller eigenvalue of `T` across the axis);
+    /// 0 for turning joints or without contact normals.
     pub short_slide_guidance: f64,
     /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
     /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.

@@ -111,11 +111,11 @@ impl SweepMetrics {
     /// its share of steps, a severe overlap change 1 plus five times its excess of bad steps, a
     /// short slide leaving its parent 1 plus its gap over the allowed one. Failures no change of
     /// range can mend count 2 plus their excess: an axis clear of the part, a hinge at its
-    /// handle, a short slide across its face; a long slide in no slot counts 2.5. 10 without contact at rest. At most 1 when the
-    /// sweep passes: then the margin to each rule (a short slide's gap growth over the allowed
-    /// one, the axis's distance from the part over the allowed one, the least handle distance
-    /// over the handle's), so a press is preferred to a pull and a hinge across the part from
-    /// its handle to one beside it.
+    /// handle, a short slide across its face; a long slide in no slot counts 2.5. 10 without
+    /// contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short
+    /// slide's gap growth over the allowed one, the axis's distance from the part over the
+    /// allowed one, the least handle distance over the handle's), so a press is preferred to a
+    /// pull and a hinge across the part from its handle to one beside it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
