@@ -159,16 +159,9 @@ pub fn band_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3; 3]) ->
     if part_points.is_empty() || axis == DVec3::ZERO {
         return Vec::new();
     }
-    let mut across: Vec<DVec3> = part_axes
-        .iter()
-        .map(|a| a.reject_from_normalized(axis))
-        .filter(|a| a.length() > 1e-6)
-        .collect();
-    across.sort_by(|a, b| b.length().total_cmp(&a.length()));
-    let Some(u) = across.first().map(|a| a.normalize()) else {
+    let Some((u, v)) = across_axis(axis, part_axes) else {
         return Vec::new();
     };
-    let v = axis.cross(u);
     let (lo_t, hi_t) = projection_range(part_points, axis);
     let middle = 0.5 * (lo_t + hi_t);
     let flat: Vec<[f64; 2]> = part_points.iter().map(|p| [p.dot(u), p.dot(v)]).collect();
@@ -217,6 +210,18 @@ pub fn band_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3; 3]) ->
         }
     }
     distinct_lines(&out, axis, 5e-3 * diagonal)
+}
+
+/// Two unit directions across unit `axis`: `u` along the box axis of `part_axes` least aligned
+/// with it (the first such), and `v = axis × u`; `None` when every box axis lies along it.
+pub(crate) fn across_axis(axis: DVec3, part_axes: [DVec3; 3]) -> Option<(DVec3, DVec3)> {
+    let u = part_axes
+        .iter()
+        .map(|a| a.reject_from_normalized(axis))
+        .filter(|a| a.length() > 1e-6)
+        .reduce(|best, a| if a.length() > best.length() { a } else { best })?
+        .normalize();
+    Some((u, axis.cross(u)))
 }
 
 /// Fractions of a part's cross-section across an axis where [`band_pivots`] also put lines.

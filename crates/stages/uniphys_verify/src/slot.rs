@@ -4,6 +4,7 @@
 
 use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
 
+use crate::candidates::across_axis;
 use crate::scene::Scene;
 
 /// Fractions of the moving part's extent along the slide where rays start (its middle, away
@@ -27,16 +28,9 @@ pub(crate) fn walled_sides(scene: &Scene, parent: usize, moving: &[DVec3], axis:
     if moving.is_empty() || axis == DVec3::ZERO {
         return 0;
     }
-    let Some(u) = box_axes(moving)
-        .into_iter()
-        .map(|a| a.reject_from_normalized(axis))
-        .filter(|a| a.length() > 1e-6)
-        .max_by(|a, b| a.length().total_cmp(&b.length()))
-        .map(DVec3::normalize)
-    else {
+    let Some((u, v)) = across_axis(axis, box_axes(moving)) else {
         return 0;
     };
-    let v = axis.cross(u);
     let reach_m = WALL_REACH_FRACTION * Aabb::from_points(moving).diagonal();
     let along = projection_range(moving, axis);
     let ranges = [projection_range(moving, u), projection_range(moving, v)];

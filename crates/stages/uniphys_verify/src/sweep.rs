@@ -367,6 +367,7 @@ pub fn sweep(
             away,
         );
     }
+    // A long slide (a slide that is not short) must run in a slot of its parent.
     if short_slide == Some(None) {
         metrics.long_slide_walled_sides =
             walled_sides(scene, parent, &moving_points, motion.axis_in_object);
