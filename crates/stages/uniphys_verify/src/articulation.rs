@@ -7,6 +7,7 @@ use uniphys_types::{CheckOutcome, CheckResult, Joint, ReportSection};
 
 use crate::VerifyResult;
 use crate::correct::correct_failed;
+use crate::fit;
 use crate::scene::{Scene, moving_group};
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
 
@@ -63,6 +64,7 @@ pub fn verify_articulation(
             outcome,
             message,
             metrics,
+            misfit: _,
         } = result?;
         let subject = format!("joint {}", joints[i].name);
         if let Some((joint, change)) = correction {
@@ -98,6 +100,9 @@ pub struct JointVerdict {
     pub message: String,
     /// The sweep that decided (the correction's when there is one).
     pub metrics: SweepMetrics,
+    /// How badly the deciding joint fits the parts it moves (0: perfectly; a hinge along its
+    /// parent and across from the handle, a spin about the part's round axis).
+    pub misfit: f64,
 }
 
 /// Sweeps movable joint `joints[i]` (its child and what hangs below it move) and, if it fails
@@ -114,6 +119,7 @@ pub fn verify_joint(
     let joint = &joints[i];
     let moving = moving_group(joints, joint.child);
     let metrics = sweep(scene, joint, &moving, params)?;
+    let misfit = fit::misfit(scene, joint, &scene.points_of(&moving), &metrics);
     let reasons = metrics.failures(params);
     if reasons.is_empty() {
         let message = format!("{} steps without failure", metrics.steps);
@@ -122,6 +128,7 @@ pub fn verify_joint(
             outcome: CheckOutcome::Pass,
             message,
             metrics,
+            misfit,
         });
     }
     if declared(joint) {
@@ -134,6 +141,7 @@ pub fn verify_joint(
             outcome: CheckOutcome::Fail,
             message,
             metrics,
+            misfit,
         });
     }
     if correct && let Some(fix) = correct_failed(scene, joint, &moving, params, &metrics)? {
@@ -143,6 +151,7 @@ pub fn verify_joint(
             outcome: CheckOutcome::Warn,
             message,
             metrics: fix.metrics,
+            misfit: fix.misfit,
         });
     }
     let suffix = if correct {
@@ -156,6 +165,7 @@ pub fn verify_joint(
         outcome: CheckOutcome::Fail,
         message,
         metrics,
+        misfit,
     })
 }
 

@@ -1,18 +1,23 @@
-//! Feedback correction of a joint that failed its sweep, smallest change first: the range
-//! reversed or cut where the sweep first failed; another pivot on the same axis (contact
-//! clusters, the part's edge lines and its edges' cross-sections), keeping the direction, then
-//! reversing it; another axis (for a slide first the normal of the face it touches and the axis
-//! of the walls around it); the other kind of motion (slide for turn, turn for slide). Within
-//! a tier the passing variant whose hinge runs closest along its parent wins, then the one with
-//! the most margin; a tier is only tried when the ones before it found nothing. A joint that
-//! nearly passed only has its range changed; a failure late in the range is cut before the
-//! range is reversed.
+//! Feedback correction of a joint that failed its sweep, in tiers of growing change: the range
+//! reversed or cut where the sweep first failed; for a part that spins in place, the line it is
+//! round about; another pivot on the same axis (contact clusters, the part's edge lines and its
+//! edges' cross-sections), keeping the direction, then reversing it; another axis (for a slide
+//! first the normal of the face it touches and the axis of the walls around it); the other kind
+//! of motion (slide for turn, turn for slide).
+//!
+//! Within a tier the passing variant that fits the parts best wins, then the one with the most
+//! margin. Across tiers the smaller change wins unless a later tier's, of the same kind of
+//! motion (a turn or a slide), fits the parts clearly better (`fit::misfit`: a hinge along its
+//! parent and across from the handle, a spin about the part's own round axis); a correction
+//! that fits well ends the search. A joint that nearly passed only has its range changed; a
+//! failure late in the range is cut before the range is reversed.
 
 use uniphys_geometry::{DVec3, box_axes, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
+use crate::fit::{misfit, round_axis, spins};
 use crate::held::{contact_normal_tensor, slide_touch_m};
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
@@ -26,6 +31,8 @@ pub struct Correction {
     pub change: String,
     /// The passing sweep.
     pub metrics: SweepMetrics,
+    /// How badly the corrected motion fits the parts it moves (0: perfectly; see `fit`).
+    pub misfit: f64,
 }
 
 /// Steps of the quick pre-screen sweep run before a full one.
@@ -36,6 +43,9 @@ const NEARLY_PASSED_SEVERITY: f64 = 2.0;
 const LATE_FAILURE_FRACTION: f64 = 0.75;
 /// Most variants given a full sweep per tier (the best screened ones).
 const FULL_SWEEPS_PER_TIER: usize = 3;
+/// A later tier's correction replaces an earlier one only when it fits the parts better by
+/// this much (see `fit::misfit`); a correction that fits within it ends the search.
+const MISFIT_MARGIN: f64 = 0.15;
 /// Slide travel tried when a turn becomes a slide, as fractions of the part's extent along the
 /// axis (largest first: the range is as far as the part can go).
 const SLIDE_TRAVEL_FRACTIONS: [f64; 3] = [0.8, 0.5, 0.25];
@@ -47,7 +57,7 @@ struct Variant {
 }
 
 /// Tries the variants of a failed `joint` (moving the parts in `moving`), tier by tier, and
-/// returns the best passing variant of the first tier that has one, or `None`.
+/// returns the best passing variant (see the module's documentation), or `None`.
 pub fn correct_joint(
     scene: &Scene,
     joint: &Joint,
@@ -71,13 +81,17 @@ pub(crate) fn correct_failed(
         steps: SCREEN_STEPS,
         ..*params
     };
-    let rank = |m: &SweepMetrics, p: &SweepParams| preference(m, p, scene.diagonal_m);
+    let moving_points = scene.points_of(moving);
+    let rank = |m: &SweepMetrics, p: &SweepParams, j: &Joint| {
+        preference(misfit(scene, j, &moving_points, m), m.severity(p))
+    };
+    let mut chosen: Option<Correction> = None;
     for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
         let mut screened: Vec<((i64, f64), usize)> = Vec::new();
         for (k, variant) in tier.iter().enumerate() {
             let m = sweep(scene, &variant.joint, moving, &screen)?;
             if m.failures(&screen).is_empty() {
-                screened.push((rank(&m, &screen), k));
+                screened.push((rank(&m, &screen, &variant.joint), k));
             }
         }
         screened.sort_by(|a, b| compare(a.0, b.0).then(a.1.cmp(&b.1)));
@@ -87,29 +101,47 @@ pub(crate) fn correct_failed(
             if !m.failures(params).is_empty() {
                 continue;
             }
-            let r = rank(&m, params);
+            let r = rank(&m, params, &tier[k].joint);
             if best.as_ref().is_none_or(|b| compare(r, b.0).is_lt()) {
                 best = Some((r, k, m));
             }
         }
-        if let Some((_, k, metrics)) = best {
-            let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
-            return Ok(Some(Correction {
-                joint,
-                change,
-                metrics,
-            }));
+        let Some((_, k, metrics)) = best else {
+            continue;
+        };
+        let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
+        let fit = misfit(scene, &joint, &moving_points, &metrics);
+        let change = match &chosen {
+            None => format!("{change} (misfit {fit:.2})"),
+            Some(earlier)
+                if turns(joint.kind) == turns(earlier.joint.kind)
+                    && fit + MISFIT_MARGIN < earlier.misfit =>
+            {
+                format!(
+                    "{change} (misfit {fit:.2}, preferred to {})",
+                    earlier.change
+                )
+            }
+            Some(_) => continue,
+        };
+        let done = nearly_passed || fit <= MISFIT_MARGIN;
+        chosen = Some(Correction {
+            joint,
+            change,
+            metrics,
+            misfit: fit,
+        });
+        if done {
+            break;
         }
     }
-    Ok(None)
+    Ok(chosen)
 }
 
-/// How much a passing variant is preferred (smaller first): a hinge that runs along its parent
-/// (its mean distance to the parent in steps of 0.5 % of the diagonal; 0 for slides), then the
-/// most margin (severity).
-fn preference(m: &SweepMetrics, params: &SweepParams, diagonal_m: f64) -> (i64, f64) {
-    let along = (m.hinge_mean_to_parent_m / (HINGE_STEP_FRACTION * diagonal_m)).round() as i64;
-    (along, m.severity(params))
+/// How much a passing variant is preferred (smaller first): the better fit to the parts
+/// (`fit::misfit`, in steps of [`MISFIT_STEP`]), then the most margin (severity).
+fn preference(misfit: f64, severity: f64) -> (i64, f64) {
+    ((misfit / MISFIT_STEP).round() as i64, severity)
 }
 
 /// Orders two preferences.
@@ -117,8 +149,8 @@ fn compare(a: (i64, f64), b: (i64, f64)) -> std::cmp::Ordering {
     a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
 }
 
-/// Steps in which hinges' distances to their parent are compared, fraction of the diagonal.
-const HINGE_STEP_FRACTION: f64 = 0.005;
+/// Steps in which variants' misfits are compared: within one, the margin decides.
+const MISFIT_STEP: f64 = 0.02;
 
 /// The variants of `joint`, in tiers of growing change.
 fn tiers(
@@ -207,7 +239,29 @@ fn tiers(
         pivots.extend(band_pivots(&moving_points, axis, part_axes));
     }
 
-    // 3. Another pivot on the same axis: the same way first, then reversed.
+    // 3. A part that spins in place: the line it is round about, both ways.
+    if spins(joint)
+        && let Some((a, p, residual)) = round_axis(
+            &moving_points,
+            &[axis, part_axes[0], part_axes[1], part_axes[2]],
+        )
+        && (line_angle(a, axis) > 1e-3
+            || (p - pivot).reject_from_normalized(a).length() > 1e-3 * scene.diagonal_m)
+    {
+        tiers.push(
+            [a, -a]
+                .into_iter()
+                .map(|a| Variant {
+                    joint: with(joint.kind, a, p, limits),
+                    change: format!(
+                        "turned about the line it is round about, axis ({:.3}, {:.3}, {:.3}) through ({:.4}, {:.4}, {:.4}) (residual {residual:.3})",
+                        a.x, a.y, a.z, p.x, p.y, p.z
+                    ),
+                })
+                .collect(),
+        );
+    }
+    // 4. Another pivot on the same axis: the same way first, then reversed.
     if joint.kind != JointKind::Prismatic {
         let moved: Vec<DVec3> = distinct_lines(&pivots, axis, 1e-3 * scene.diagonal_m)
             .into_iter()
@@ -227,7 +281,7 @@ fn tiers(
             );
         }
     }
-    // 4. Another axis, both ways: for a slide first the normal of the face it touches and the
+    // 5. Another axis, both ways: for a slide first the normal of the face it touches and the
     // axis of walls around it (a press, a guided slide), then the candidates from the contact
     // and the part's box.
     let contact_axes: Vec<DVec3> = if joint.kind == JointKind::Prismatic {
@@ -241,10 +295,10 @@ fn tiers(
     } else {
         Vec::new()
     };
-    let mut axes: Vec<DVec3> = candidates
-        .as_ref()
-        .map_or_else(Vec::new, |c| c.axes.clone());
-    axes.extend(part_axes);
+    // The part's own box axes first: a contact axis a few degrees off one of them is the same
+    // hinge or spin, and the part's edge or symmetry gives it more exactly.
+    let mut axes: Vec<DVec3> = part_axes.to_vec();
+    axes.extend(candidates.as_ref().map_or(&[][..], |c| &c.axes[..]));
     tiers.push(axis_variants(&contact_axes, &[], axis, |a| {
         with(joint.kind, a, pivot, limits)
     }));
@@ -252,7 +306,7 @@ fn tiers(
         with(joint.kind, a, pivot, limits)
     }));
 
-    // 5. The other kind of motion along or about the same axis.
+    // 6. The other kind of motion along or about the same axis.
     let mut tier = Vec::new();
     match joint.kind {
         JointKind::Revolute | JointKind::Continuous => {
@@ -288,7 +342,8 @@ fn tiers(
 }
 
 /// Variants of a joint (`make` gives it for an axis) along each of `axes`, both ways, that
-/// differ from `axis` and from each other and from every one of `tried` by more than 0.05 rad.
+/// differ from `axis` and from each other and from every one of `tried` by more than
+/// [`AXIS_MERGE_RAD`] (the first of a closer pair is kept).
 fn axis_variants(
     axes: &[DVec3],
     tried: &[DVec3],
@@ -298,13 +353,13 @@ fn axis_variants(
     let mut distinct: Vec<DVec3> = Vec::new();
     for a in axes {
         let a = a.normalize_or_zero();
-        if a == DVec3::ZERO || line_angle(a, axis) < 0.05 {
+        if a == DVec3::ZERO || line_angle(a, axis) < AXIS_MERGE_RAD {
             continue;
         }
         if distinct
             .iter()
             .chain(tried)
-            .all(|b| line_angle(a, *b) > 0.05)
+            .all(|b| line_angle(a, *b) > AXIS_MERGE_RAD)
         {
             distinct.push(a);
         }
@@ -320,6 +375,16 @@ fn axis_variants(
         }
     }
     out
+}
+
+/// Axes closer than this are one candidate, radians (a part's edge and a hinge line from its
+/// contact differ by a few degrees on real objects).
+const AXIS_MERGE_RAD: f64 = 0.1;
+
+/// Whether a joint of this kind turns (misfits of turns and slides are not comparable: a slide
+/// has no hinge or roundness to fit).
+fn turns(kind: JointKind) -> bool {
+    matches!(kind, JointKind::Revolute | JointKind::Continuous)
 }
 
 /// Angle between two lines (sign ignored), radians.

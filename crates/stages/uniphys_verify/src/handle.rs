@@ -185,6 +185,29 @@ pub(crate) fn handle_reach_fraction(
     (reach > 0.0).then(|| off_line(mean(&standing)) / reach)
 }
 
+/// Whether a panel with a handle (the part itself sampled at `child`, or with what it carries,
+/// `group`; the outer face turned along `away`) would turn about an `axis` across its plane,
+/// spinning in place like a clock hand rather than swinging on an edge.
+#[must_use]
+pub(crate) fn handled_panel_spun(
+    child: &[DVec3],
+    group: &[DVec3],
+    axis: DVec3,
+    away: DVec3,
+) -> bool {
+    if child.is_empty() {
+        return false;
+    }
+    let part = PartBox::of(child);
+    let across = part.axes[part.thinnest_axis()]
+        .dot(axis.normalize_or_zero())
+        .abs()
+        > IN_PLANE_COS_MAX;
+    across
+        && (standing_out(child, away).is_some()
+            || (group.len() > child.len() && standing_out(group, away).is_some()))
+}
+
 /// The median of `values` (reordered); 0 when empty.
 fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {

@@ -23,6 +23,7 @@ mod contact_reference;
 mod correct;
 mod crossing;
 mod error;
+mod fit;
 mod handle;
 mod held;
 mod intrinsic;

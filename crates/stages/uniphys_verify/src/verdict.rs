@@ -21,6 +21,9 @@ impl SweepMetrics {
     /// - long slides: the part runs in no slot of its parent (walled in on too few sides across
     ///   the axis) and does not lift off the face it sits on (a door or lid pushed along its
     ///   own face);
+    /// - hinges (revolute): the moving colliders sink into the still ones by more than
+    ///   `hinge_sink_mean_max` penetration tolerances on average over the sweep (a door swung
+    ///   into its own hollow cabinet, which no surface crossing shows when the door is inset);
     /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
     ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
     ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
@@ -67,6 +70,12 @@ impl SweepMetrics {
                 self.thickness_ratio_p95
             ));
         }
+        if let Some(sink) = self.hinge_sunk(params) {
+            reasons.push(format!(
+                "the hinge sinks its part into the others: {sink:.2} penetration tolerances on average over the sweep (at most {:.2})",
+                params.hinge_sink_mean_max
+            ));
+        }
         if self.short_slide_unheld(params) {
             reasons.push(format!(
                 "a short slide moves across the face it sits on: it presses into it {:.2} (at least {:.2}) and is guided by walls {:.2} (at least {:.2})",
@@ -106,16 +115,17 @@ impl SweepMetrics {
     }
 
     /// How badly the joint fails, comparable across variants of one joint: the largest of each
-    /// rule's measure over its limit. Crossed fraction and a turning joint's thickness ratio
-    /// count as they are; when they fail, lost contact of a turning joint counts 1 plus ten times
-    /// its share of steps, a severe overlap change 1 plus five times its excess of bad steps, a
-    /// short slide leaving its parent 1 plus its gap over the allowed one. Failures no change of
-    /// range can mend count 2 plus their excess: an axis clear of the part, a hinge at its
-    /// handle, a short slide across its face; a long slide in no slot counts 2.5. 10 without
-    /// contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short
-    /// slide's gap growth over the allowed one, the axis's distance from the part over the
-    /// allowed one, the least handle distance over the handle's), so a press is preferred to a
-    /// pull and a hinge across the part from its handle to one beside it.
+    /// rule's measure over its limit. Crossed fraction, a turning joint's thickness ratio and a
+    /// hinge's mean penetration count as they are; when they fail, lost contact of a turning
+    /// joint counts 1 plus ten times its share of steps, a severe overlap change 1 plus five
+    /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
+    /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
+    /// clear of the part, a hinge at its handle, a short slide across its face; a long slide in
+    /// no slot counts 2.5. 10 without contact at rest. At most 1 when the sweep passes: then the
+    /// margin to each rule (a short slide's gap growth over the allowed one, the axis's distance
+    /// from the part over the allowed one, the least handle distance over the handle's), so a
+    /// press is preferred to a pull and a hinge across the part from its handle to one beside
+    /// it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -154,6 +164,9 @@ impl SweepMetrics {
         if self.long_slide_unheld(params) {
             s = s.max(2.5);
         }
+        if self.kind == JointKind::Revolute {
+            s = s.max(self.hinge_sink() / params.hinge_sink_mean_max);
+        }
         if self.short_slide_unheld(params) {
             let held = (self.short_slide_press / params.short_slide_press_min)
                 .max(self.short_slide_guidance / params.short_slide_guidance_min);
@@ -175,6 +188,18 @@ impl SweepMetrics {
             && self.contact_steps > 0
             && self.bad_overlap_fraction > params.bad_overlap_fraction_max
             && self.overlap_ratio_p10 < params.overlap_min
+    }
+
+    /// A hinge's mean penetration growth in tolerances, when it sinks its part too deep into the
+    /// others.
+    fn hinge_sunk(&self, params: &SweepParams) -> Option<f64> {
+        let sink = self.hinge_sink();
+        (self.kind == JointKind::Revolute && sink > params.hinge_sink_mean_max).then_some(sink)
+    }
+
+    /// Mean penetration growth over the sweep, in penetration tolerances.
+    fn hinge_sink(&self) -> f64 {
+        self.mean_penetration_growth_m / self.penetration_tolerance_m.max(1e-12)
     }
 
     /// The handle's share of the reach from the axis when it is too near the hinge.

@@ -9,8 +9,8 @@ use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
-    PatchParams, Scene, SweepParams, articulation_candidates, band_pivots, edge_pivots,
-    moving_group, parallel_map, verify_joint,
+    JointVerdict, PatchParams, Scene, SweepParams, articulation_candidates, band_pivots,
+    edge_pivots, moving_group, parallel_map, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
@@ -29,11 +29,15 @@ pub(crate) struct BreakResult {
     pub(crate) message: String,
     /// The deciding sweep's metrics (the correction's when one passed).
     pub(crate) metrics: BTreeMap<String, f64>,
+    /// The joint the correction gave, if one passed.
+    pub(crate) corrected: Option<Joint>,
 }
 
 /// What happened to one true joint.
 pub(crate) struct JointResult {
     pub(crate) joint: String,
+    /// The true joint, in the object frame the verifier works in.
+    pub(crate) truth: Joint,
     pub(crate) kind: JointKind,
     /// The part label from `semantics.txt` (for the tables only; the verifier never sees it).
     pub(crate) label: String,
@@ -134,8 +138,9 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
                     .correction
                     .as_ref()
                     .is_some_and(|(j, _)| same_motion(j, joint, scale)),
+                metrics: with_misfit(&v),
+                corrected: v.correction.map(|(j, _)| j),
                 message: v.message,
-                metrics: v.metrics.as_map(),
             });
         }
         let label = asset
@@ -145,11 +150,12 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
             .map_or_else(String::new, |(_, l)| l.clone());
         joints.push(JointResult {
             joint: joint.name.clone(),
+            truth: joint.clone(),
             kind: joint.kind,
             label,
             outcome: verdict.outcome,
+            metrics: with_misfit(&verdict),
             message: verdict.message,
-            metrics: verdict.metrics.as_map(),
             corrected_wrong,
             nearest_pivot_model,
             breakages: results,
@@ -160,6 +166,13 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
         joints,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The deciding sweep's metrics by name, with the joint's misfit.
+fn with_misfit(verdict: &JointVerdict) -> BTreeMap<String, f64> {
+    let mut map = verdict.metrics.as_map();
+    map.insert("misfit".to_owned(), verdict.misfit);
+    map
 }
 
 /// Distance of the pivot candidate nearest to the true axis line, metres.

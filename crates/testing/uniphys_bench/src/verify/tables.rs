@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde_json::json;
-use uniphys_types::{CheckOutcome, JointKind};
+use uniphys_types::{CheckOutcome, Joint, JointKind};
 
 use crate::breakage::Breakage;
 use crate::object::{JointResult, ObjectResult};
@@ -225,6 +225,16 @@ fn time_line(results: &Results) -> String {
     )
 }
 
+/// A joint's motion for the JSON: kind, axis, pivot and limits in the object frame.
+fn motion(joint: &Joint) -> serde_json::Value {
+    json!({
+        "kind": kind_name(joint.kind),
+        "axis": joint.axis_in_object,
+        "pivot_m": joint.pivot_in_object_m,
+        "limits": joint.limits.map(|l| [l.lower, l.upper]),
+    })
+}
+
 /// Every joint's outcome as JSON.
 pub(crate) fn json(results: &Results) -> serde_json::Value {
     let rows: Vec<serde_json::Value> = joints(results)
@@ -240,12 +250,14 @@ pub(crate) fn json(results: &Results) -> serde_json::Value {
                 "message": j.message,
                 "metrics": j.metrics,
                 "nearest_pivot_model": j.nearest_pivot_model,
+                "truth": motion(&j.truth),
                 "breakages": j.breakages.iter().map(|b| json!({
                     "breakage": b.breakage.name(),
                     "caught": b.caught,
                     "restored": b.restored,
                     "message": b.message,
                     "metrics": b.metrics,
+                    "corrected": b.corrected.as_ref().map(motion),
                 })).collect::<Vec<_>>(),
             })
         })
