@@ -5,12 +5,13 @@
 //! first the normal of the face it touches and the axis of the walls around it); the other kind
 //! of motion (slide for turn, turn for slide).
 //!
-//! Within a tier the passing variant that fits the parts best wins, then the one with the most
-//! margin. Across tiers the smaller change wins unless a later tier's, of the same kind of
-//! motion (a turn or a slide), fits the parts clearly better (`fit::misfit`: a hinge along its
-//! parent and across from the handle, a spin about the part's own round axis); a correction
-//! that fits well ends the search. A joint that nearly passed only has its range changed; a
-//! failure late in the range is cut before the range is reversed.
+//! Within a tier the passing variant that fits the parts best wins (a range cut counts against
+//! it by the share cut away), then the one with the most margin. Across tiers the smaller
+//! change wins unless a later tier's, of the same kind of motion (a turn or a slide), fits the
+//! parts clearly better (`fit::misfit`: a hinge along its parent and across from the handle, a
+//! spin about the part's own round axis); a correction that fits well ends the search. A joint
+//! that nearly passed only has its range changed; a failure late in the range is cut before
+//! the range is reversed.
 
 use uniphys_geometry::{DVec3, box_axes, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
@@ -82,9 +83,9 @@ pub(crate) fn correct_failed(
         ..*params
     };
     let moving_points = scene.points_of(moving);
-    let rank = |m: &SweepMetrics, p: &SweepParams, j: &Joint| {
-        preference(misfit(scene, j, &moving_points, m), m.severity(p))
-    };
+    let fit =
+        |m: &SweepMetrics, j: &Joint| misfit(scene, j, &moving_points, m) + cut_penalty(joint, j);
+    let rank = |m: &SweepMetrics, p: &SweepParams, j: &Joint| preference(fit(m, j), m.severity(p));
     let mut chosen: Option<Correction> = None;
     for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
         let mut screened: Vec<((i64, f64), usize)> = Vec::new();
@@ -110,7 +111,7 @@ pub(crate) fn correct_failed(
             continue;
         };
         let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
-        let fit = misfit(scene, &joint, &moving_points, &metrics);
+        let fit = fit(&metrics, &joint);
         let change = match &chosen {
             None => format!("{change} (misfit {fit:.2})"),
             Some(earlier)
@@ -380,6 +381,21 @@ fn axis_variants(
 /// Axes closer than this are one candidate, radians (a part's edge and a hinge line from its
 /// contact differ by a few degrees on real objects).
 const AXIS_MERGE_RAD: f64 = 0.1;
+
+/// How much a variant's range was cut from the original's (same kind), times
+/// [`CUT_WEIGHT`]: a motion stopped where it first hit something is a weaker explanation
+/// than one that runs its whole range.
+fn cut_penalty(original: &Joint, variant: &Joint) -> f64 {
+    match (original.limits, variant.limits) {
+        (Some(o), Some(v)) if original.kind == variant.kind && o.upper > o.lower => {
+            CUT_WEIGHT * (1.0 - (v.upper - v.lower) / (o.upper - o.lower)).clamp(0.0, 1.0)
+        }
+        _ => 0.0,
+    }
+}
+
+/// Misfit added per share of the range a correction cuts away.
+const CUT_WEIGHT: f64 = 0.5;
 
 /// Whether a joint of this kind turns (misfits of turns and slides are not comparable: a slide
 /// has no hinge or roundness to fit).

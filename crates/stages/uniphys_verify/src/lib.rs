@@ -11,7 +11,9 @@
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
 //!   edge lines and the cross-sections of its edges ([`articulation_candidates`],
-//!   [`edge_pivots`], [`band_pivots`]), also used by grounders to enumerate hypotheses;
+//!   [`edge_pivots`], [`band_pivots`]), also used by grounders to enumerate hypotheses, and the
+//!   line a spinning part is round about; corrections compared by how well they fit the part
+//!   (`fit`);
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
 //! Distance thresholds are fractions of the object's diagonal or of the parts involved, so
