@@ -18,7 +18,7 @@ use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
-use crate::fit::{misfit, round_axis, spins};
+use crate::fit::{may_spin, misfit, round_axis};
 use crate::held::{contact_normal_tensor, slide_touch_m};
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
@@ -151,7 +151,7 @@ fn compare(a: (i64, f64), b: (i64, f64)) -> std::cmp::Ordering {
 }
 
 /// Steps in which variants' misfits are compared: within one, the margin decides.
-const MISFIT_STEP: f64 = 0.02;
+const MISFIT_STEP: f64 = 0.01;
 
 /// The variants of `joint`, in tiers of growing change.
 fn tiers(
@@ -241,7 +241,7 @@ fn tiers(
     }
 
     // 3. A part that spins in place: the line it is round about, both ways.
-    if spins(joint)
+    if may_spin(joint)
         && let Some((a, p, residual)) = round_axis(
             &moving_points,
             &[axis, part_axes[0], part_axes[1], part_axes[2]],

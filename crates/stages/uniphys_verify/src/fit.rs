@@ -18,8 +18,8 @@ use crate::held::mean;
 use crate::scene::Scene;
 use crate::sweep::SweepMetrics;
 
-/// A turning joint whose range exceeds this spins in place (a knob turned 330 degrees): it is
-/// judged by its roundness about the axis, not as a hinge.
+/// A revolute joint whose range exceeds this may spin in place (a knob turned 330 degrees): the
+/// line its part is round about is tried as a correction.
 const SPIN_RANGE_MIN_RAD: f64 = PI;
 /// Angles the part is turned by to measure its roundness about an axis.
 const SPIN_ANGLES_RAD: [f64; 5] = [PI / 3.0, 2.0 * PI / 3.0, PI, 4.0 * PI / 3.0, 5.0 * PI / 3.0];
@@ -35,8 +35,7 @@ const SPIN_WEIGHT: f64 = 5.0;
 ///   share of the moving parts' diagonal, plus how far the panel's handle is from the far edge
 ///   (1 minus its share of the reach, when there is a handle; 1 when a panel with a handle
 ///   would spin in its own plane);
-/// - a spin (continuous, or a range over half a turn): the roundness residual
-///   ([`spin_residual`]) times 5;
+/// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5;
 /// - a slide: 0 (slides are told apart by their sweep: slot, press, guidance).
 pub(crate) fn misfit(
     scene: &Scene,
@@ -69,15 +68,21 @@ pub(crate) fn misfit(
     along + handle
 }
 
-/// A turning joint that spins in place: continuous, or revolute over more than half a turn.
+/// A turning joint judged by its roundness: a continuous one, which spins in place (a knob, a
+/// wheel, a cap). A revolute joint is judged as a hinge whatever its range (a bucket's handle
+/// swings over 260 degrees and is not round).
 pub(crate) fn spins(joint: &Joint) -> bool {
-    match joint.kind {
-        JointKind::Continuous => true,
-        JointKind::Revolute => joint
-            .limits
-            .is_some_and(|l| l.upper - l.lower > SPIN_RANGE_MIN_RAD),
-        JointKind::Prismatic | JointKind::Fixed => false,
-    }
+    joint.kind == JointKind::Continuous
+}
+
+/// A turning joint that may spin in place, so the line its part is round about is worth
+/// trying: continuous, or revolute over more than half a turn (a knob turned 330 degrees).
+pub(crate) fn may_spin(joint: &Joint) -> bool {
+    spins(joint)
+        || joint.kind == JointKind::Revolute
+            && joint
+                .limits
+                .is_some_and(|l| l.upper - l.lower > SPIN_RANGE_MIN_RAD)
 }
 
 /// How far a part (sampled at `points`) turned about the line through `pivot` along `axis` lands
