@@ -83,35 +83,37 @@ pub(crate) fn correct_failed(
         ..*params
     };
     let moving_points = scene.points_of(moving);
+    // The misfit depends only on the joint and what the sweep measures at rest, so the screen's
+    // serves the full sweep too.
     let fit =
         |m: &SweepMetrics, j: &Joint| misfit(scene, j, &moving_points, m) + cut_penalty(joint, j);
-    let rank = |m: &SweepMetrics, p: &SweepParams, j: &Joint| preference(fit(m, j), m.severity(p));
     let mut chosen: Option<Correction> = None;
     for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
-        let mut screened: Vec<((i64, f64), usize)> = Vec::new();
+        // (preference on the screen, misfit, variant)
+        let mut screened: Vec<((i64, f64), f64, usize)> = Vec::new();
         for (k, variant) in tier.iter().enumerate() {
             let m = sweep(scene, &variant.joint, moving, &screen)?;
             if m.failures(&screen).is_empty() {
-                screened.push((rank(&m, &screen, &variant.joint), k));
+                let f = fit(&m, &variant.joint);
+                screened.push((preference(f, m.severity(&screen)), f, k));
             }
         }
-        screened.sort_by(|a, b| compare(a.0, b.0).then(a.1.cmp(&b.1)));
-        let mut best: Option<((i64, f64), usize, SweepMetrics)> = None;
-        for &(_, k) in screened.iter().take(FULL_SWEEPS_PER_TIER) {
+        screened.sort_by(|a, b| compare(a.0, b.0).then(a.2.cmp(&b.2)));
+        let mut best: Option<((i64, f64), f64, usize, SweepMetrics)> = None;
+        for &(_, f, k) in screened.iter().take(FULL_SWEEPS_PER_TIER) {
             let m = sweep(scene, &tier[k].joint, moving, params)?;
             if !m.failures(params).is_empty() {
                 continue;
             }
-            let r = rank(&m, params, &tier[k].joint);
+            let r = preference(f, m.severity(params));
             if best.as_ref().is_none_or(|b| compare(r, b.0).is_lt()) {
-                best = Some((r, k, m));
+                best = Some((r, f, k, m));
             }
         }
-        let Some((_, k, metrics)) = best else {
+        let Some((_, fit, k, metrics)) = best else {
             continue;
         };
         let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
-        let fit = fit(&metrics, &joint);
         let change = match &chosen {
             None => format!("{change} (misfit {fit:.2})"),
             Some(earlier)

@@ -4,7 +4,7 @@
 //! and put back. `scripts/bench` (verify-bench) measures the whole set.
 
 use uniphys_examples::shared_partnet_object;
-use uniphys_geometry::{ConvexParams, DVec3, TriMesh, convex_decomposition};
+use uniphys_geometry::{Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
 use uniphys_verify::{JointVerdict, Scene, SweepParams, parallel_map, verify_joint};
@@ -55,6 +55,17 @@ impl Object {
         let mut joints = self.joints.clone();
         joints[i] = broken;
         joints
+    }
+
+    /// Joint `i` with its range reversed fails for `reason` and is corrected back to its true
+    /// range by a reversal.
+    fn assert_reversal_caught_and_undone(&self, i: usize, reason: &str) {
+        let truth = &self.joints[i];
+        let verdict = self.caught(i, reversed(truth));
+        assert!(verdict.message.contains(reason), "{}", verdict.message);
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert!(change.contains("reversed"), "{change}");
+        assert_eq!(fixed.limits, truth.limits);
     }
 
     /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
@@ -152,17 +163,7 @@ fn reversed(joint: &Joint) -> Joint {
 #[test]
 fn a_microwave_door_swinging_inward_is_caught_and_reversed() {
     let o = object("kitchen-7236");
-    let i = o.movable()[0];
-    let truth = o.joints[i].clone();
-    let verdict = o.caught(i, reversed(&truth));
-    assert!(
-        verdict.message.contains("passes through"),
-        "{}",
-        verdict.message
-    );
-    let (fixed, change) = verdict.correction.expect("corrected");
-    assert!(change.contains("reversed"), "{change}");
-    assert_eq!(fixed.limits, truth.limits);
+    o.assert_reversal_caught_and_undone(o.movable()[0], "passes through");
 }
 
 #[test]
@@ -301,12 +302,7 @@ fn assert_restored_to_true_line(verdict: &JointVerdict, truth: &Joint, diagonal:
 
 /// Diagonal of the box of part `part`'s samples, metres.
 fn part_diagonal(o: &Object, part: u32) -> f64 {
-    let points = o.scene.points_of(&[part as usize]);
-    let (lo, hi) = points.iter().fold(
-        (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    (hi - lo).length()
+    Aabb::from_points(&o.scene.points_of(&[part as usize])).diagonal()
 }
 
 // Several wrong motions can pass a sweep; a correction is chosen by how well it fits the part
@@ -354,10 +350,5 @@ fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
         .into_iter()
         .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
         .expect("a hinged door");
-    let truth = o.joints[i].clone();
-    let verdict = o.caught(i, reversed(&truth));
-    assert!(verdict.message.contains("sinks"), "{}", verdict.message);
-    let (fixed, change) = verdict.correction.expect("corrected");
-    assert!(change.contains("reversed"), "{change}");
-    assert_eq!(fixed.limits, truth.limits);
+    o.assert_reversal_caught_and_undone(i, "sinks");
 }
