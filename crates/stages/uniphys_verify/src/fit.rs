@@ -32,9 +32,9 @@ const SPIN_WEIGHT: f64 = 5.0;
 /// How badly a passing `joint` (its sweep: `metrics`) fits the parts it moves (sampled at
 /// `moving`), 0 for a perfect fit, about 1 for a clear misfit:
 /// - a hinge: its mean distance from the parent along the stretch where it passes the part, a
-///   share of the moving parts' diagonal, plus how far the panel's handle is from the far edge
-///   (1 minus its share of the reach, when there is a handle; 1 when a panel with a handle
-///   would spin in its own plane);
+///   share of the moving parts' width across the axis ([`width_across_m`]), plus how far the
+///   panel's handle is from the far edge (1 minus its share of the reach, when there is a
+///   handle; 1 when a panel with a handle would spin in its own plane);
 /// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5;
 /// - a slide: 0 (slides are told apart by their sweep: slot, press, guidance).
 pub(crate) fn misfit(
@@ -51,8 +51,7 @@ pub(crate) fn misfit(
     if joint.kind != JointKind::Revolute {
         return 0.0;
     }
-    let diagonal_m = Aabb::from_points(moving).diagonal().max(1e-12);
-    let along = (metrics.hinge_mean_to_parent_m / diagonal_m).min(1.0);
+    let along = (metrics.hinge_mean_to_parent_m / width_across_m(moving, axis)).min(1.0);
     let handle = match metrics.handle_reach_fraction {
         Some(f) => (1.0 - f).clamp(0.0, 1.0),
         None => {
@@ -66,6 +65,19 @@ pub(crate) fn misfit(
         }
     };
     along + handle
+}
+
+/// The width of a part (sampled at `points`) across a unit `axis`: twice the largest distance of
+/// a sample from the line along the axis through their centroid. A hinge's offset from its
+/// parent is judged against it, the size of the part in the plane it turns in (a tall door's
+/// width, not its diagonal, which its height inflates).
+fn width_across_m(points: &[DVec3], axis: DVec3) -> f64 {
+    let centre = mean(points);
+    let farthest = points
+        .iter()
+        .map(|p| (*p - centre).reject_from_normalized(axis).length())
+        .fold(0.0, f64::max);
+    (2.0 * farthest).max(1e-12)
 }
 
 /// A turning joint judged by its roundness: a continuous one, which spins in place (a knob, a

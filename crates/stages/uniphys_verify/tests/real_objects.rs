@@ -68,6 +68,19 @@ impl Object {
         assert_eq!(fixed.limits, truth.limits);
     }
 
+    /// `truth` with its hinge line moved across its part's centre, to the opposite edge.
+    fn hinged_on_opposite_edge(&self, truth: &Joint) -> Joint {
+        let axis = DVec3::from_array(truth.axis_in_object).normalize();
+        let pivot = DVec3::from_array(truth.pivot_in_object_m);
+        let part = self.scene.points_of(&[truth.child.0 as usize]);
+        let centre = part.iter().sum::<DVec3>() / part.len() as f64;
+        Joint {
+            pivot_in_object_m: (pivot - 2.0 * (pivot - centre).reject_from_normalized(axis))
+                .to_array(),
+            ..truth.clone()
+        }
+    }
+
     /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
     fn caught(&self, i: usize, broken: Joint) -> JointVerdict {
         let verdict = self.verify(&self.with(i, broken), i);
@@ -254,11 +267,7 @@ fn a_door_hinged_beside_its_handle_is_caught_and_hinged_across_from_it() {
     let axis = DVec3::from_array(truth.axis_in_object).normalize();
     let pivot = DVec3::from_array(truth.pivot_in_object_m);
     let door = o.scene.points_of(&[truth.child.0 as usize]);
-    let centre = door.iter().sum::<DVec3>() / door.len() as f64;
-    let mut opposite = truth.clone();
-    opposite.pivot_in_object_m =
-        (pivot - 2.0 * (pivot - centre).reject_from_normalized(axis)).to_array();
-    let verdict = o.caught(i, opposite);
+    let verdict = o.caught(i, o.hinged_on_opposite_edge(&truth));
     assert!(
         verdict.message.contains("hinged at its handle"),
         "{}",
@@ -351,4 +360,19 @@ fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
         .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
         .expect("a hinged door");
     o.assert_reversal_caught_and_undone(i, "sinks");
+}
+
+#[test]
+fn a_double_door_hinged_on_its_free_edge_is_hinged_back_on_the_cabinet_side() {
+    // Hinged on the edge where the two doors meet, each door swings into the other; swung the
+    // other way about that edge it passes, but the line there runs clear of the cabinet (the
+    // doors meet in the middle of the opening). The hinge along the cabinet's side fits better.
+    let o = object("kitchen-49182");
+    let doors = o.movable();
+    assert_eq!(doors.len(), 2, "the cabinet has two doors");
+    for i in doors {
+        let truth = o.joints[i].clone();
+        let verdict = o.caught(i, o.hinged_on_opposite_edge(&truth));
+        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+    }
 }
