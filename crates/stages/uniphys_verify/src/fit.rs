@@ -35,7 +35,9 @@ const SPIN_WEIGHT: f64 = 5.0;
 ///   share of the moving parts' width across the axis ([`width_across_m`]), plus how far the
 ///   panel's handle is from the far edge (1 minus its share of the reach, when there is a
 ///   handle; 1 when a panel with a handle would spin in its own plane);
-/// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5;
+/// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5; a revolute joint
+///   over half a turn ([`may_spin`]) is judged both ways and keeps the better fit (a knob with a
+///   stop spins, a bucket's handle swings);
 /// - a slide: 0 (slides are told apart by their sweep: slot, press, guidance).
 pub(crate) fn misfit(
     scene: &Scene,
@@ -64,7 +66,14 @@ pub(crate) fn misfit(
             }
         }
     };
-    along + handle
+    let hinge = along + handle;
+    if may_spin(joint) {
+        // A knob turned 330 degrees spins in place as well as any continuous one; its grip ridge
+        // would otherwise count as a handle on a panel spun in its own plane.
+        hinge.min(SPIN_WEIGHT * spin_residual(moving, axis, pivot))
+    } else {
+        hinge
+    }
 }
 
 /// The width of a part (sampled at `points`) across a unit `axis`: twice the largest distance of
