@@ -247,6 +247,23 @@ mod tests {
     }
 
     #[test]
+    fn a_tall_doors_width_across_its_hinge_is_its_width_not_its_height() {
+        // 0.5 wide (x), 0.02 thick (y), 2 tall (z).
+        let mut door = Vec::new();
+        for i in 0..=10 {
+            for k in 0..=40 {
+                for y in [0.0, 0.02] {
+                    door.push(DVec3::new(0.05 * f64::from(i), y, 0.05 * f64::from(k)));
+                }
+            }
+        }
+        let across_hinge = width_across_m(&door, DVec3::Z);
+        let across_flap = width_across_m(&door, DVec3::X);
+        assert!((across_hinge - 0.5).abs() < 0.01, "{across_hinge}");
+        assert!((across_flap - 2.0).abs() < 0.01, "{across_flap}");
+    }
+
+    #[test]
     fn a_box_has_no_round_axis() {
         let mut points = Vec::new();
         for i in 0..20 {
