@@ -14,7 +14,7 @@ use uniphys_geometry::{Aabb, DQuat, DVec3, KdTree};
 use uniphys_types::{Joint, JointKind};
 
 use crate::handle::handled_panel_spun;
-use crate::held::mean;
+use crate::held::{farthest_from_line_m, mean};
 use crate::scene::Scene;
 use crate::sweep::SweepMetrics;
 
@@ -81,12 +81,7 @@ pub(crate) fn misfit(
 /// parent is judged against it, the size of the part in the plane it turns in (a tall door's
 /// width, not its diagonal, which its height inflates).
 fn width_across_m(points: &[DVec3], axis: DVec3) -> f64 {
-    let centre = mean(points);
-    let farthest = points
-        .iter()
-        .map(|p| (*p - centre).reject_from_normalized(axis).length())
-        .fold(0.0, f64::max);
-    (2.0 * farthest).max(1e-12)
+    (2.0 * farthest_from_line_m(points, mean(points), axis)).max(1e-12)
 }
 
 /// A turning joint judged by its roundness: a continuous one, which spins in place (a knob, a

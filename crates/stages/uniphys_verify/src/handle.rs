@@ -12,7 +12,7 @@
 
 use uniphys_geometry::{Aabb, DVec3, KdTree};
 
-use crate::held::mean;
+use crate::held::{farthest_from_line_m, mean};
 use crate::part_box::PartBox;
 
 /// A part is a panel (a slab with an outer face that can carry a handle) when its thinnest box
@@ -181,7 +181,7 @@ pub(crate) fn handle_reach_fraction(
         return None;
     }
     let off_line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
-    let reach = group.iter().map(|p| off_line(*p)).fold(0.0, f64::max);
+    let reach = farthest_from_line_m(group, pivot, axis);
     (reach > 0.0).then(|| off_line(mean(&standing)) / reach)
 }
 

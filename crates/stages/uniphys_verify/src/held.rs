@@ -98,6 +98,15 @@ pub(crate) fn line_to_points_m(motion: &JointMotion, points: &[DVec3]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Distance from the line through `on` along unit `axis` to the farthest of `points`, metres (a
+/// part's reach from a hinge line); 0 without points.
+pub(crate) fn farthest_from_line_m(points: &[DVec3], on: DVec3, axis: DVec3) -> f64 {
+    points
+        .iter()
+        .map(|p| (*p - on).reject_from_normalized(axis).length())
+        .fold(0.0, f64::max)
+}
+
 /// Points sampled along a hinge line.
 const HINGE_SAMPLES: usize = 20;
 
