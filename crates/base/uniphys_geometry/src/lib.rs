@@ -1,11 +1,13 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
 //! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions
-//! between parts, plane fitting, k-means, convex decomposition, and the sRGB and texel helpers the
-//! renderers share. Synchronous, CPU only, deterministic for a given seed.
+//! between parts, plane fitting, k-means, optimal one-to-one assignment, convex decomposition,
+//! and the sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
+//! a given seed.
 //!
 //! Coordinates are `f64` metres in the object frame (Z up) once an asset has been ingested.
 
 mod aabb;
+mod assignment;
 mod bitset;
 mod carve;
 mod color;
@@ -34,6 +36,7 @@ mod voxel;
 mod voxel_raster;
 
 pub use aabb::Aabb;
+pub use assignment::{assignment_cost, min_cost_assignment};
 pub use carve::{OrientedBox, carve_out};
 pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;

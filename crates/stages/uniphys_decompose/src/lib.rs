@@ -11,7 +11,7 @@
 //! - [`candidates`]: a [`CandidateGenerator`] gives decompositions for K in a range (built-in
 //!   geometric clustering, or per-face features from a PartField-compatible service);
 //!   [`providers`] picks the segmenter and generator from the service settings;
-//! - [`select`] with [`hungarian`]: the candidate that best matches the lifted masks per view;
+//! - [`select`] with an optimal assignment: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size; [`pieces`]: the
 //!   mesh's connected pieces made whole, small compact pieces (knobs, buttons) kept as parts;
@@ -25,7 +25,6 @@ pub mod candidates;
 pub mod consensus;
 pub mod decompose;
 mod error;
-pub mod hungarian;
 pub mod lift;
 pub mod output;
 pub mod perception;

@@ -1,8 +1,8 @@
 //! Scoring a decomposition against known parts: part-count error and face-area-weighted IoU
 //! after Hungarian matching of found parts to true parts.
 
-use crate::hungarian::min_cost_assignment;
 use crate::{DecomposeError, DecomposeResult};
+use uniphys_geometry::min_cost_assignment;
 
 /// How well a decomposition matches the known parts.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,8 +5,8 @@
 //! masks cover; the candidate's loss is the mean over views; ties go to the smallest K.
 
 use crate::candidates::{Candidate, FaceAdjacency, UnionFind, welded_vertex_ids};
-use crate::hungarian::min_cost_assignment;
 use crate::{DecomposeError, DecomposeResult};
+use uniphys_geometry::min_cost_assignment;
 
 /// Losses closer than this are a tie.
 const TIE: f64 = 1e-12;

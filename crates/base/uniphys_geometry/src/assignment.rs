@@ -1,7 +1,7 @@
 //! Exact rectangular assignment (Kuhn-Munkres with potentials, shortest augmenting paths,
 //! O(n^2 m) for n <= m).
 
-use crate::{DecomposeError, DecomposeResult};
+use crate::{GeometryError, GeometryResult};
 
 /// The assignment of rows to columns that minimises the total cost, for a row-major
 /// `rows x cols` matrix: `min(rows, cols)` pairs, every row and column used at most once.
@@ -12,15 +12,15 @@ pub fn min_cost_assignment(
     cost: &[f64],
     rows: usize,
     cols: usize,
-) -> DecomposeResult<Vec<Option<usize>>> {
+) -> GeometryResult<Vec<Option<usize>>> {
     if cost.len() != rows * cols {
-        return Err(DecomposeError::InvalidInput(format!(
+        return Err(GeometryError::InvalidParameter(format!(
             "{} costs for a {rows} x {cols} matrix",
             cost.len()
         )));
     }
     if cost.iter().any(|c| !c.is_finite()) {
-        return Err(DecomposeError::InvalidInput(
+        return Err(GeometryError::InvalidParameter(
             "an assignment cost is not finite".into(),
         ));
     }
