@@ -34,6 +34,14 @@ pub enum EvalError {
         /// The ingest error.
         source: uniphys_mesh_io::IngestError,
     },
+    /// A part's mesh file (`parts/part_<id>.obj` of an output directory) could not be read.
+    #[error("cannot read the part mesh {}: {source}", path.display())]
+    PartMesh {
+        /// The path.
+        path: PathBuf,
+        /// The ingest error.
+        source: uniphys_mesh_io::IngestError,
+    },
     /// A path is none of the accepted inputs.
     #[error("{} is not {expected}", path.display())]
     UnrecognisedInput {

@@ -8,7 +8,9 @@ use uniphys_mesh_io::IngestOptions;
 
 use crate::annotated::AnnotatedAsset;
 use crate::load::{load_ground_truth, load_prediction};
+use crate::load_surfaces::{load_ground_truth_with_surfaces, load_prediction_with_surfaces};
 use crate::pairing::{PairSamples, pair_samples};
+use crate::part_overlap::{PartOverlap, match_parts_by_overlap, renamed_by_overlap};
 use crate::{
     EvalError, EvalResult, TaskReport, evaluate_kinematics, evaluate_object, evaluate_physics,
     evaluate_structure,
@@ -136,6 +138,45 @@ pub fn load_pairs(
     gts: &[PathBuf],
     gt_options: &IngestOptions,
 ) -> EvalResult<Vec<(AnnotatedAsset, AnnotatedAsset)>> {
+    check_paired(preds, gts)?;
+    preds
+        .iter()
+        .zip(gts)
+        .map(|(p, g)| Ok((load_prediction(p)?, load_ground_truth(g, gt_options)?)))
+        .collect()
+}
+
+/// A prediction and its ground truth.
+pub type PredictionAndTruth = (AnnotatedAsset, AnnotatedAsset);
+
+/// Loads predictions and ground truths paired in order as [`load_pairs`] does, and pairs each
+/// prediction's parts with the true parts by shared surface ([`match_parts_by_overlap`]): the
+/// prediction comes back renamed to the true parts' names ([`renamed_by_overlap`]), with the
+/// part matches.
+///
+/// # Errors
+/// As [`load_pairs`]; a prediction without its output directory's part meshes, or a ground
+/// truth without part meshes (a UniPhys-40K entity), is a load error.
+pub fn load_pairs_by_overlap(
+    preds: &[PathBuf],
+    gts: &[PathBuf],
+    gt_options: &IngestOptions,
+) -> EvalResult<Vec<(PredictionAndTruth, Vec<PartOverlap>)>> {
+    check_paired(preds, gts)?;
+    preds
+        .iter()
+        .zip(gts)
+        .map(|(p, g)| {
+            let (pred, pred_surfaces) = load_prediction_with_surfaces(p)?;
+            let (gt, gt_surfaces) = load_ground_truth_with_surfaces(g, gt_options)?;
+            let matches = match_parts_by_overlap(&pred, &pred_surfaces, &gt, &gt_surfaces)?;
+            Ok(((renamed_by_overlap(&pred, &matches), gt), matches))
+        })
+        .collect()
+}
+
+/// Both lists given and of one length.
+fn check_paired(preds: &[PathBuf], gts: &[PathBuf]) -> EvalResult<()> {
     if preds.is_empty() || gts.is_empty() {
         return Err(EvalError::Mismatch(
             "give at least one prediction and one ground truth (--pred and --gt)".to_owned(),
@@ -148,9 +189,5 @@ pub fn load_pairs(
             gts.len()
         )));
     }
-    preds
-        .iter()
-        .zip(gts)
-        .map(|(p, g)| Ok((load_prediction(p)?, load_ground_truth(g, gt_options)?)))
-        .collect()
+    Ok(())
 }

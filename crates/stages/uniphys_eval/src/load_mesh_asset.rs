@@ -16,6 +16,16 @@ use crate::{AnnotatedPart, EvalError, EvalResult};
 /// are the ground truth), moves it to rest on z = 0 centred in x and y as the pipeline does, and
 /// returns it as ground truth.
 pub fn load_urdf_ground_truth(path: &Path, options: &IngestOptions) -> EvalResult<AnnotatedAsset> {
+    let asset = load_urdf_asset(path, options)?;
+    Ok(annotated_from_mesh_asset(
+        &asset,
+        &path.display().to_string(),
+    ))
+}
+
+/// The URDF as [`load_urdf_ground_truth`] loads it, before it becomes ground truth: a mesh
+/// asset with its joints, rested on the ground.
+pub fn load_urdf_asset(path: &Path, options: &IngestOptions) -> EvalResult<MeshAsset> {
     let options = IngestOptions {
         ignore_joints: false,
         ..options.clone()
@@ -25,10 +35,7 @@ pub fn load_urdf_ground_truth(path: &Path, options: &IngestOptions) -> EvalResul
         source,
     })?;
     loaded.asset.rest_on_ground();
-    Ok(annotated_from_mesh_asset(
-        &loaded.asset,
-        &path.display().to_string(),
-    ))
+    Ok(loaded.asset)
 }
 
 /// A [`MeshAsset`] with declared joints as ground truth, in its own frame (callers bring it into

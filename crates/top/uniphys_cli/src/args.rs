@@ -251,6 +251,20 @@ pub struct EvalArgs {
     /// `joints` array with `--json`).
     #[arg(long)]
     pub per_joint: bool,
+    /// How predicted parts are paired with true parts.
+    #[arg(long, value_enum, default_value_t = MatchParts::Name)]
+    pub match_parts: MatchParts,
+}
+
+/// How `uniphys eval` pairs predicted parts with true parts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MatchParts {
+    /// By part name (a run that kept the input's parts).
+    Name,
+    /// By shared surface, one to one, at least half the union shared (a run that decomposed
+    /// the mesh into parts of its own: `uniphys run --decompose`); reads each prediction's
+    /// `parts/part_<id>.obj`, and needs a URDF or an output directory as ground truth.
+    Overlap,
 }
 
 impl UpArg {

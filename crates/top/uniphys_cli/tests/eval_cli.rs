@@ -126,3 +126,83 @@ fn a_rotated_run_without_joints_is_noted_and_evaluated_in_the_same_frame() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("| cabinet | door | revolute |"), "{text}");
 }
+
+/// The cabinet with its links renamed as a dataset names them (`link_0` the door, `link_1` the
+/// body) and listed in the other order.
+const CABINET_LINKS_URDF: &str = r#"<?xml version="1.0"?>
+<robot name="cabinet">
+  <link name="link_1"><visual><origin xyz="0 0 0.5"/><geometry><box size="1 1 1"/></geometry></visual></link>
+  <link name="link_0"><visual><origin xyz="0.01 0.5 0.5"/><geometry><box size="0.02 1 1"/></geometry></visual></link>
+  <joint name="joint_0" type="revolute">
+    <origin xyz="0.5 -0.5 0"/><parent link="link_1"/><child link="link_0"/>
+    <axis xyz="0 0 1"/><limit lower="0" upper="1.57" effort="10" velocity="1"/>
+  </joint>
+</robot>
+"#;
+
+#[test]
+fn parts_named_otherwise_are_paired_by_shared_surface_when_asked() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let source = cabinet(dir.path());
+    let gt_dir = dir.path().join("truth");
+    std::fs::create_dir_all(&gt_dir).expect("mkdir");
+    std::fs::write(gt_dir.join("mobility.urdf"), CABINET_LINKS_URDF).expect("write");
+    let gt = gt_dir.display().to_string();
+    let out = dir.path().join("out");
+    let out_s = out.display().to_string();
+    let o = uniphys(&["run", &source, "--out", &out_s]);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    let eval = |extra: &[&str]| {
+        let mut args = vec!["eval", "--pred", &out_s, "--gt", &gt, "--json"];
+        args.extend_from_slice(extra);
+        let o = uniphys(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).expect("json report")
+    };
+    // By name nothing pairs: `door` is not `link_0`.
+    let by_name = eval(&[]);
+    assert_eq!(by_name["input_summary"]["matched_joints"], 0, "{by_name}");
+    assert!(by_name.get("part_matches").is_none());
+    let by_surface = eval(&["--match-parts", "overlap"]);
+    assert_eq!(
+        by_surface["input_summary"]["matched_joints"], 1,
+        "{by_surface}"
+    );
+    let parts = by_surface["part_matches"][0]["parts"]
+        .as_array()
+        .expect("the part matches of the asset");
+    let door = parts
+        .iter()
+        .find(|p| p["gt_part"] == "link_0")
+        .expect("the true door is listed");
+    assert_eq!(door["pred_part"], "door", "{parts:?}");
+    assert!(door["iou"].as_f64().expect("an IoU") > 0.9, "{parts:?}");
+    let k = &by_surface["tasks"]["kinematic_parameters"]["paper_metrics"];
+    assert_eq!(k["joint_type_accuracy"], 1.0, "{k}");
+
+    // The text report lists the matches; a dataset entity has no part meshes to match.
+    let o = uniphys(&[
+        "eval",
+        "--pred",
+        &out_s,
+        "--gt",
+        &gt,
+        "--match-parts",
+        "overlap",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("| truth | link_0 | door |"), "{text}");
+    let parts_dir = out.join("parts");
+    std::fs::remove_dir_all(&parts_dir).expect("remove the part meshes");
+    let o = uniphys(&[
+        "eval",
+        "--pred",
+        &out_s,
+        "--gt",
+        &gt,
+        "--match-parts",
+        "overlap",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("parts/part_<id>.obj"), "{}", stderr(&o));
+}
