@@ -115,7 +115,10 @@ pub(crate) fn run_drive(
                 Some((command, model.drive_max_effort)),
                 model.drive_gain_per_s,
             );
-            scene.step();
+            if !scene.step() {
+                watch.finite = false;
+                break 'targets;
+            }
             elapsed_s += dt;
             if !watch.observe(&scene, setup.models, &mut others).finite {
                 break 'targets;
@@ -128,7 +131,10 @@ pub(crate) fn run_drive(
     if watch.finite {
         let release_steps = (params.release_duration_s / dt).ceil() as usize;
         for _ in 0..release_steps {
-            scene.step();
+            if !scene.step() {
+                watch.finite = false;
+                break;
+            }
             let state = watch.observe(&scene, setup.models, &mut []);
             energy_max = energy_max.max(state.energy_j);
             if !state.finite {

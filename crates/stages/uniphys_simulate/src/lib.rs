@@ -4,7 +4,9 @@
 //!
 //! Frames and units: everything comes in the object frame (Z up, metres, radians), as the
 //! [`uniphys_types::AssetRecord`] holds it; joint coordinates are 0 at the exported rest pose.
-//! The engine runs in `f32`; the analysis around it is `f64`.
+//! The engine runs in `f32`; the analysis around it is `f64`. A step in which the engine itself
+//! fails (an assert on a state that is no longer finite) counts as non-finite states, not as a
+//! crash (`engine_guard.rs`).
 //!
 //! Collision-filter policy: contacts are ignored between the parent and child of every joint,
 //! between parts welded by fixed joints, and between the caller's excluded pairs (the touching
@@ -27,6 +29,7 @@
 
 mod check;
 mod drive;
+mod engine_guard;
 mod error;
 mod filter;
 mod model;

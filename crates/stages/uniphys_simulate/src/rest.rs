@@ -50,7 +50,10 @@ pub(crate) fn run_rest(
     };
     let steps = (params.rest_duration_s * params.rate_hz).ceil() as usize;
     for _ in 0..steps {
-        scene.step();
+        if !scene.step() {
+            summary.finite = false;
+            break;
+        }
         let state = scene.body_state();
         summary.finite &= state.finite;
         summary.max_point_speed_m_per_s = summary

@@ -16,6 +16,7 @@ use rapier3d::prelude::{
 use uniphys_geometry::{DVec3, TriMesh};
 use uniphys_types::{AssetRecord, JointKind, PartId};
 
+use crate::engine_guard::guarded;
 use crate::filter::PairFilter;
 use crate::{DynamicParams, SimulateError, SimulateResult};
 
@@ -220,9 +221,12 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Advances one step.
-    pub fn step(&mut self) {
-        self.world.step_with_events(&self.filter, &());
+    /// Advances one step; `false` when the engine failed inside it (see `engine_guard`), after
+    /// which the scene's state means nothing and it must not be stepped again.
+    #[must_use]
+    pub fn step(&mut self) -> bool {
+        let (world, filter) = (&mut self.world, &self.filter);
+        guarded(|| world.step_with_events(filter, &())).is_some()
     }
 
     /// Coordinate and velocity of record joint `j` (rad, rad/s or m, m/s); `None` for a fixed
