@@ -161,6 +161,14 @@ impl Decomposition {
     }
 }
 
+/// `mesh` as the text of an OBJ file: `v` lines then `f` lines, nothing else.
+#[must_use]
+pub fn obj_text(mesh: &TriMesh) -> String {
+    let mut out = String::new();
+    write_obj_body(&mut out, mesh, 0);
+    out
+}
+
 /// `v` lines then `f` lines (1-based, shifted by `offset` vertices written before).
 fn write_obj_body(out: &mut String, mesh: &TriMesh, offset: usize) {
     for p in &mesh.positions {

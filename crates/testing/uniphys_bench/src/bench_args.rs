@@ -34,4 +34,9 @@ pub(crate) struct BenchArgs {
     /// Only assets whose name contains this text.
     #[arg(long)]
     pub only: Option<String>,
+    /// The whole raw-mesh path: each URDF asset merged into one mesh at rest (no parts, names
+    /// or joints), `run --decompose`, the built-in grounder, and the parts paired with the true
+    /// ones by shared surface before scoring (upright only; examples keep their parts).
+    #[arg(long)]
+    pub decompose: bool,
 }

@@ -8,6 +8,7 @@
 mod assets;
 mod bench_args;
 mod categories;
+mod decomposed_run;
 mod joint_tables;
 mod object_dirs;
 mod partnet;
@@ -43,13 +44,13 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     );
     println!("# Articulation benchmark: joints stripped, built-in grounder, paper metrics\n");
     let mut all_skipped = skipped;
-    let poses = if args.upright_only {
+    let poses = if args.upright_only || args.decompose {
         vec![Pose::Upright]
     } else {
         vec![Pose::Upright, Pose::Rotated { seed: args.seed }]
     };
     for pose in poses {
-        let result = run_pose(&assets, pose, args);
+        let result = run_pose(&assets, pose, args, scratch.path());
         println!("{}", tables::pose_section(pose, &result));
         println!("{}", joint_tables::joint_sections(&result));
         all_skipped.extend(result.skipped);

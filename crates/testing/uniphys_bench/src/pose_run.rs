@@ -1,10 +1,11 @@
 //! One pass over the assets in one pose: strip joints, run the pipeline, evaluate.
 
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use uniphys_eval::{
-    AnnotatedAsset, EvalReport, annotated_from_mesh_asset, annotated_from_record, evaluate_pairs,
-    load_urdf_ground_truth,
+    AnnotatedAsset, EvalReport, PartOverlap, annotated_from_mesh_asset, annotated_from_record,
+    evaluate_pairs, load_urdf_ground_truth,
 };
 use uniphys_geometry::DMat4;
 use uniphys_mesh_io::{AssetRotation, IngestOptions};
@@ -12,6 +13,7 @@ use uniphys_pipeline::{NoProgress, RunOptions, run};
 
 use crate::assets::{BenchAsset, GroundTruth, Skipped};
 use crate::bench_args::BenchArgs;
+use crate::decomposed_run::run_decomposed;
 
 /// The pose the assets are given in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -48,6 +50,9 @@ pub(crate) struct AssetRow {
     pub category: String,
     /// The prediction and its ground truth, for the per-joint tables.
     pub pair: (AnnotatedAsset, AnnotatedAsset),
+    /// With `--decompose`: the true parts moved by a movable joint that a decomposed part
+    /// matches, and how many there are.
+    pub recovered: Option<(usize, usize)>,
 }
 
 /// The outcome of one pose.
@@ -62,10 +67,18 @@ pub(crate) struct PoseResult {
     pub skipped: Vec<Skipped>,
     /// Wall time of the whole pose.
     pub wall_time: Duration,
+    /// With `--decompose`: movable true parts matched by a decomposed part, of all of them.
+    pub recovered: Option<(usize, usize)>,
 }
 
 /// Runs every asset in `pose` and evaluates it against its ground truth in the same frame.
-pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> PoseResult {
+/// `scratch` holds the merged meshes and runs of `--decompose`.
+pub(crate) fn run_pose(
+    assets: &[BenchAsset],
+    pose: Pose,
+    args: &BenchArgs,
+    scratch: &Path,
+) -> PoseResult {
     let start = Instant::now();
     let mut rows = Vec::new();
     let mut pairs = Vec::new();
@@ -87,10 +100,20 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
         };
         eprintln!("{pose:?}: {}", asset.name);
         let run_start = Instant::now();
-        let result = run_one(asset, &ingest);
+        let result = match &asset.ground_truth {
+            GroundTruth::Urdf(urdf) if args.decompose => {
+                run_decomposed(urdf, &ingest, &scratch.join(format!("decomposed-{index}"))).map(
+                    |(pred, gt, matches)| {
+                        let recovered = movable_recovered(&gt, &matches);
+                        (pred, gt, Some(recovered))
+                    },
+                )
+            }
+            _ => run_one(asset, &ingest).map(|(pred, gt)| (pred, gt, None)),
+        };
         let run_time = run_start.elapsed();
         match result {
-            Ok((pred, gt)) => {
+            Ok((pred, gt, recovered)) => {
                 let report = evaluate_pairs(&[(pred.clone(), gt.clone())]);
                 rows.push(AssetRow {
                     name: asset.name.clone(),
@@ -98,6 +121,7 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
                     run_time,
                     category: asset.category.clone(),
                     pair: (pred.clone(), gt.clone()),
+                    recovered,
                 });
                 match groups.iter_mut().find(|(g, _)| *g == asset.group) {
                     Some((_, list)) => list.push((pred.clone(), gt.clone())),
@@ -112,7 +136,6 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
         }
     }
     PoseResult {
-        rows,
         overall: evaluate_pairs(&pairs),
         groups: groups
             .iter()
@@ -120,7 +143,27 @@ pub(crate) fn run_pose(assets: &[BenchAsset], pose: Pose, args: &BenchArgs) -> P
             .collect(),
         skipped,
         wall_time: start.elapsed(),
+        recovered: rows
+            .iter()
+            .filter_map(|r| r.recovered)
+            .reduce(|a, b| (a.0 + b.0, a.1 + b.1)),
+        rows,
     }
+}
+
+/// The true parts moved by a movable joint that a predicted part matches, of all of them.
+fn movable_recovered(gt: &AnnotatedAsset, matches: &[PartOverlap]) -> (usize, usize) {
+    let movable: Vec<&str> = gt
+        .joints
+        .iter()
+        .filter(|j| j.is_movable())
+        .map(|j| j.child.as_str())
+        .collect();
+    let found = matches
+        .iter()
+        .filter(|m| m.pred_part.is_some() && movable.contains(&m.gt_part.as_str()))
+        .count();
+    (found, movable.len())
 }
 
 /// Short name of a pose for tables.

@@ -1,0 +1,67 @@
+//! `articulation-bench --decompose`: a URDF asset merged into one mesh at rest (no parts, names
+//! or joints), run with decomposition as `uniphys run --decompose` does, and its parts paired
+//! with the true ones by shared surface, as `uniphys eval --match-parts overlap` pairs them.
+
+use std::path::Path;
+
+use uniphys_decompose::DecomposeOptions;
+use uniphys_decompose::output::obj_text;
+use uniphys_eval::{
+    AnnotatedAsset, PartOverlap, annotated_from_mesh_asset, load_prediction_with_surfaces,
+    load_urdf_asset, match_parts_by_overlap, mesh_asset_part_surfaces, renamed_by_overlap,
+};
+use uniphys_geometry::TriMesh;
+use uniphys_mesh_io::IngestOptions;
+use uniphys_pipeline::{NoProgress, RunOptions, run};
+use uniphys_types::UpAxis;
+
+/// The prediction (its parts renamed to the true parts they match), the ground truth, and the
+/// part matches; the message of the first step that failed otherwise.
+pub(crate) fn run_decomposed(
+    urdf: &Path,
+    ingest: &IngestOptions,
+    work: &Path,
+) -> Result<(AnnotatedAsset, AnnotatedAsset, Vec<PartOverlap>), String> {
+    let text = |e: &dyn std::fmt::Display| e.to_string();
+    let truth = load_urdf_asset(urdf, ingest).map_err(|e| text(&e))?;
+    let merged = truth.merged();
+    let bare = TriMesh {
+        positions: merged.positions,
+        triangles: merged.triangles,
+        ..TriMesh::default()
+    };
+    std::fs::create_dir_all(work).map_err(|e| text(&e))?;
+    let input = work.join("merged.obj");
+    std::fs::write(&input, obj_text(&bare)).map_err(|e| text(&e))?;
+    // The merged mesh is in the ground truth's frame (Z up, its unit): read as written.
+    let options = RunOptions {
+        ingest: IngestOptions {
+            up_axis: Some(UpAxis::Z),
+            max_triangles: ingest.max_triangles,
+            ..IngestOptions::default()
+        },
+        decompose: Some(DecomposeOptions::default()),
+        ..RunOptions::default()
+    };
+    let output = run(&input, &options, &NoProgress).map_err(|e| text(&e))?;
+    let out = work.join("out");
+    for artifact in &output.artifacts {
+        if artifact.path == "record.json" || artifact.path.starts_with("parts/") {
+            let path = out.join(&artifact.path);
+            if let Some(dir) = path.parent() {
+                std::fs::create_dir_all(dir).map_err(|e| text(&e))?;
+            }
+            std::fs::write(&path, &artifact.bytes).map_err(|e| text(&e))?;
+        }
+    }
+    let (pred, pred_surfaces) = load_prediction_with_surfaces(&out).map_err(|e| text(&e))?;
+    let gt = annotated_from_mesh_asset(&truth, &urdf.display().to_string());
+    let matches = match_parts_by_overlap(
+        &pred,
+        &pred_surfaces,
+        &gt,
+        &mesh_asset_part_surfaces(&truth),
+    )
+    .map_err(|e| text(&e))?;
+    Ok((renamed_by_overlap(&pred, &matches), gt, matches))
+}
