@@ -33,8 +33,10 @@ pub(crate) fn run_decomposed(
     std::fs::create_dir_all(work).map_err(|e| text(&e))?;
     let input = work.join("merged.obj");
     std::fs::write(&input, obj_text(&bare)).map_err(|e| text(&e))?;
-    // The merged mesh is in the ground truth's frame (Z up, its unit): read as written.
-    let options = RunOptions {
+    // The merged mesh is in the ground truth's frame (Z up, its unit): read as written. The
+    // dynamic check only reports (it changes no joint), and on a mesh cut into many small
+    // fragments it is most of the run: off.
+    let mut options = RunOptions {
         ingest: IngestOptions {
             up_axis: Some(UpAxis::Z),
             max_triangles: ingest.max_triangles,
@@ -43,6 +45,7 @@ pub(crate) fn run_decomposed(
         decompose: Some(DecomposeOptions::default()),
         ..RunOptions::default()
     };
+    options.verify.dynamics = None;
     let output = run(&input, &options, &NoProgress).map_err(|e| text(&e))?;
     let out = work.join("out");
     for artifact in &output.artifacts {
