@@ -39,19 +39,9 @@ pub fn detect_format(path: &Path) -> IngestResult<SourceFormat> {
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    Ok(match extension.as_str() {
-        "glb" => SourceFormat::Glb,
-        "gltf" => SourceFormat::Gltf,
-        "obj" => SourceFormat::Obj,
-        "ply" => SourceFormat::Ply,
-        "stl" => SourceFormat::Stl,
-        "urdf" => SourceFormat::Urdf,
-        _ => {
-            return Err(IngestError::UnsupportedFormat {
-                path: path.to_path_buf(),
-                extension,
-            });
-        }
+    SourceFormat::from_extension(&extension).ok_or_else(|| IngestError::UnsupportedFormat {
+        path: path.to_path_buf(),
+        extension,
     })
 }
 

@@ -25,6 +25,39 @@ pub enum SourceFormat {
     Urdf,
 }
 
+impl SourceFormat {
+    /// Every format, in declaration order.
+    pub const ALL: [Self; 6] = [
+        Self::Glb,
+        Self::Gltf,
+        Self::Obj,
+        Self::Ply,
+        Self::Stl,
+        Self::Urdf,
+    ];
+
+    /// The file extension that names the format: lowercase, without the dot.
+    #[must_use]
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::Glb => "glb",
+            Self::Gltf => "gltf",
+            Self::Obj => "obj",
+            Self::Ply => "ply",
+            Self::Stl => "stl",
+            Self::Urdf => "urdf",
+        }
+    }
+
+    /// The format a file extension (without the dot, any case) names, if any.
+    #[must_use]
+    pub fn from_extension(extension: &str) -> Option<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|f| f.extension().eq_ignore_ascii_case(extension))
+    }
+}
+
 /// Up axis of an input's coordinates; the service always works Z-up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -247,4 +280,24 @@ fn validate_joint_geometry(joint: &Joint) -> TypesResult<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SourceFormat;
+
+    #[test]
+    fn every_format_is_named_by_its_extension_in_any_case_and_nothing_else_is() {
+        for format in SourceFormat::ALL {
+            assert_eq!(
+                SourceFormat::from_extension(format.extension()),
+                Some(format)
+            );
+            let upper = format.extension().to_ascii_uppercase();
+            assert_eq!(SourceFormat::from_extension(&upper), Some(format));
+        }
+        for other in ["exe", "zip", "", "gl", "objx"] {
+            assert_eq!(SourceFormat::from_extension(other), None, "{other}");
+        }
+    }
 }

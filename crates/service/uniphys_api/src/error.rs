@@ -39,6 +39,9 @@ pub enum ApiError {
     /// 413: the upload is larger than the configured limit.
     #[error("{0}")]
     PayloadTooLarge(String),
+    /// 415: a file of a type the pipeline does not read.
+    #[error("{0}")]
+    UnsupportedMediaType(String),
     /// 422: well-formed, but it cannot be acted on (missing object, bad filename).
     #[error("{0}")]
     Unprocessable(String),
@@ -90,6 +93,7 @@ impl ApiError {
             Self::NotFound(_) => StatusCode::NOT_FOUND,
             Self::Conflict(_) => StatusCode::CONFLICT,
             Self::PayloadTooLarge(_) => StatusCode::PAYLOAD_TOO_LARGE,
+            Self::UnsupportedMediaType(_) => StatusCode::UNSUPPORTED_MEDIA_TYPE,
             Self::Unprocessable(_) => StatusCode::UNPROCESSABLE_ENTITY,
             Self::Backpressure { .. } => StatusCode::TOO_MANY_REQUESTS,
             Self::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,
@@ -104,6 +108,7 @@ impl ApiError {
             Self::NotFound(_) => "not_found",
             Self::Conflict(_) => "conflict",
             Self::PayloadTooLarge(_) => "payload_too_large",
+            Self::UnsupportedMediaType(_) => "unsupported_media_type",
             Self::Unprocessable(_) => "unprocessable",
             Self::Backpressure { .. } => "backlog_full",
             Self::Unavailable(_) => "unavailable",

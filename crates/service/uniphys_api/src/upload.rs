@@ -8,6 +8,7 @@ use futures::StreamExt;
 use sha2::{Digest, Sha256};
 use tempfile::TempPath;
 use tokio::io::AsyncWriteExt;
+use uniphys_types::SourceFormat;
 
 use crate::error::{ApiError, ApiResult, error_chain};
 
@@ -119,6 +120,29 @@ pub(crate) fn sanitize_filename(raw: &str) -> ApiResult<String> {
     let keep = MAX_FILENAME_BYTES.saturating_sub(ext.len() + 1).max(1);
     let stem = &stem[..stem.len().min(keep)];
     Ok(format!("{stem}.{ext}"))
+}
+
+/// The stored name of a source file (see [`sanitize_filename`]) whose extension names a format
+/// the pipeline reads; 415 naming the formats otherwise.
+pub(crate) fn source_filename(raw: &str) -> ApiResult<String> {
+    let name = sanitize_filename(raw)?;
+    let extension = name.rsplit_once('.').map(|(_, e)| e).unwrap_or_default();
+    if SourceFormat::from_extension(extension).is_none() {
+        let known: Vec<String> = SourceFormat::ALL
+            .iter()
+            .map(|f| format!(".{}", f.extension()))
+            .collect();
+        return Err(ApiError::UnsupportedMediaType(format!(
+            "{raw:?} is not a file the pipeline reads: the extension .{extension} names no supported format; send one of {}",
+            known.join(", ")
+        )));
+    }
+    Ok(name)
+}
+
+/// The 422 answer for a source without bytes.
+pub(crate) fn empty_source(what: &str) -> ApiError {
+    ApiError::Unprocessable(format!("{what} is empty: an asset needs the file's bytes"))
 }
 
 /// The content type served for a stored file, by its extension.

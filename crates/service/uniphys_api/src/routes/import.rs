@@ -16,7 +16,7 @@ use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 use crate::extract::{ApiJson, Tenant};
 use crate::state::Shared;
-use crate::upload::{sanitize_filename, spool, too_large};
+use crate::upload::{empty_source, source_filename, spool, too_large};
 
 /// Batch items submitted at the same time.
 const BATCH_CONCURRENCY: usize = 8;
@@ -87,7 +87,8 @@ struct Import {
         (status = 400, description = "Malformed JSON or unknown field", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 413, description = "Object over the size limit", body = ErrorBody),
-        (status = 422, description = "No such object, a key outside the tenant's prefixes, or a bad filename", body = ErrorBody),
+        (status = 415, description = "A file type the pipeline does not read (by its extension)", body = ErrorBody),
+        (status = 422, description = "No such object, an empty one, a key outside the tenant's prefixes, or a bad filename", body = ErrorBody),
         (status = 429, description = "Tenant backlog full; see Retry-After", body = ErrorBody),
         (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
     ),
@@ -118,7 +119,7 @@ pub(crate) async fn by_url(
         (status = 400, description = "Malformed manifest or unknown field", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 413, description = "An object over the size limit", body = ErrorBody),
-        (status = 422, description = "Empty or too long, or bad items (each named)", body = ErrorBody),
+        (status = 422, description = "Empty or too long, or bad items (each named: a missing or empty object, a file type the pipeline does not read, ...)", body = ErrorBody),
         (status = 429, description = "Tenant backlog cannot take the batch; see Retry-After", body = ErrorBody),
         (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
     ),
@@ -219,10 +220,13 @@ async fn validate(
         .filename
         .as_deref()
         .unwrap_or_else(|| key.rsplit('/').next().unwrap_or_default());
-    let filename = sanitize_filename(raw_name)?;
+    let filename = source_filename(raw_name)?;
     let Some(size_bytes) = state.artifacts.head(&key).await? else {
         return Err(ApiError::Unprocessable(format!("no object at {key}")));
     };
+    if size_bytes == 0 {
+        return Err(empty_source(&format!("the object at {key}")));
+    }
     if size_bytes > state.config.max_upload_bytes {
         return Err(too_large(state.config.max_upload_bytes));
     }

@@ -17,7 +17,7 @@ use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiQuery, Tenant};
 use crate::routes::batches::batch_label;
 use crate::state::Shared;
-use crate::upload::{Spooled, sanitize_filename, spool_body, too_large};
+use crate::upload::{Spooled, empty_source, source_filename, spool_body, too_large};
 
 /// Query of an upload.
 #[derive(Debug, Deserialize, IntoParams)]
@@ -74,7 +74,8 @@ pub struct SubmitResponse {
         (status = 400, description = "Malformed query", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 413, description = "Upload over the size limit; nothing stored", body = ErrorBody),
-        (status = 422, description = "Filename without an extension", body = ErrorBody),
+        (status = 415, description = "A file type the pipeline does not read (by its extension)", body = ErrorBody),
+        (status = 422, description = "Filename without an extension, or an empty body", body = ErrorBody),
         (status = 429, description = "Tenant backlog full; see Retry-After", body = ErrorBody),
         (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
     ),
@@ -87,7 +88,7 @@ pub(crate) async fn upload(
     headers: HeaderMap,
     body: Body,
 ) -> ApiResult<Response> {
-    let filename = sanitize_filename(&params.filename)?;
+    let filename = source_filename(&params.filename)?;
     if let Some(batch) = &params.batch {
         batch_label(batch)?;
     }
@@ -99,8 +100,14 @@ pub(crate) async fn upload(
     if declared.is_some_and(|n| n > max) {
         return Err(too_large(max));
     }
+    if declared == Some(0) {
+        return Err(empty_source("the upload"));
+    }
     check_backlog(&state, tenant, 1).await?;
     let spooled = spool_body(body, state.config.upload_tmp_dir.clone(), max).await?;
+    if spooled.size_bytes == 0 {
+        return Err(empty_source("the upload"));
+    }
     let placement = Placement {
         priority: params.priority,
         batch: params.batch.as_deref(),

@@ -300,3 +300,66 @@ pub async fn bad_filenames_and_keys_are_422(backend: Backend) {
     }
     app.finish().await;
 }
+
+pub async fn unsupported_types_and_empty_files_are_refused_at_submission(backend: Backend) {
+    let Some(app) = TestApp::open(backend, |c| c).await else {
+        return;
+    };
+    let exe = app.upload("setup.exe", b"MZ not a mesh").await;
+    assert_eq!(exe.status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    let (code, message) = exe.error();
+    assert_eq!(code, "unsupported_media_type");
+    assert!(
+        message.contains(".exe") && message.contains(".glb") && message.contains(".urdf"),
+        "{message}"
+    );
+    let empty = app.upload("empty.glb", b"").await;
+    assert_eq!(empty.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(empty.error().1.contains("empty"), "{}", empty.error().1);
+    let declared_empty = app
+        .send(
+            Method::POST,
+            "/v1/assets?filename=empty.glb",
+            Some(KEY),
+            &[("content-length", "0")],
+            Body::empty(),
+        )
+        .await;
+    assert_eq!(declared_empty.status, StatusCode::UNPROCESSABLE_ENTITY);
+
+    let t = app.tenant.0;
+    app.artifacts
+        .put(&format!("incoming/t{t}/tool.exe"), b"MZ".to_vec())
+        .await
+        .expect("put");
+    app.artifacts
+        .put(&format!("incoming/t{t}/nothing.glb"), Vec::new())
+        .await
+        .expect("put");
+    let by_key = |name: &str| format!(r#"{{"url": "incoming/t{t}/{name}"}}"#);
+    let exe = app
+        .post_json("/v1/assets/by-url", &by_key("tool.exe"))
+        .await;
+    assert_eq!(exe.status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    let empty = app
+        .post_json("/v1/assets/by-url", &by_key("nothing.glb"))
+        .await;
+    assert_eq!(empty.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(empty.error().1.contains("is empty"), "{}", empty.error().1);
+
+    let jobs = app
+        .store
+        .list_jobs(app.tenant, &JobFilter::default())
+        .await
+        .expect("list");
+    assert!(jobs.is_empty(), "nothing submitted: {jobs:?}");
+    assert!(
+        app.artifacts
+            .list("sources")
+            .await
+            .expect("list")
+            .is_empty(),
+        "nothing stored"
+    );
+    app.finish().await;
+}

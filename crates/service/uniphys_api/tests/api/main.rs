@@ -44,6 +44,7 @@ cases!(
     bad_input::a_wrong_key_is_401_and_another_tenants_rows_are_404,
     bad_input::invalid_ids_are_400,
     bad_input::bad_filenames_and_keys_are_422,
+    bad_input::unsupported_types_and_empty_files_are_refused_at_submission,
     status::status_shows_each_stage_with_progress,
     status::listing_pages_newest_first_with_a_cursor,
     status::cancelling_a_finished_job_is_409,
