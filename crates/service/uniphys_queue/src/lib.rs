@@ -38,7 +38,7 @@ pub use state::{JobState, StageState};
 pub use store::{
     AssetInfo, Backend, BatchSummary, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome,
     FailureKind, JobDetail, JobEvent, JobFilter, JobSummary, Lease, MAX_BATCH_LABEL_CHARS,
-    MAX_MANIFEST_BYTES, NewAsset, PurgeReport, QueueStore, RecoveryReport, RetentionPolicy,
-    RunContext, RunRef, StageCost, StageFailure, StageRunInfo, StageStats, Submission, TableHealth,
-    WorkItem, validate_batch_label,
+    MAX_MANIFEST_BYTES, MAX_TENANT_NAME_CHARS, NewAsset, PurgeReport, QueueStore, RecoveryReport,
+    RetentionPolicy, RunContext, RunRef, StageCost, StageFailure, StageRunInfo, StageStats,
+    Submission, TableHealth, WorkItem, validate_batch_label, validate_tenant_name,
 };

@@ -70,10 +70,14 @@ pub enum Command {
 /// Tenant actions.
 #[derive(Debug, Subcommand)]
 pub enum TenantAction {
-    /// Create a tenant (or find it) and print a new API key for it.
+    /// Create a tenant and print a new API key for it (an existing tenant only with
+    /// `--rotate-key`).
     Create {
-        /// The tenant's name.
+        /// The tenant's name: letters, digits, '.', '_' and '-', at most 64.
         name: String,
+        /// The tenant exists: revoke its keys and print a new one.
+        #[arg(long)]
+        rotate_key: bool,
         /// Where the queue state lives.
         #[command(flatten)]
         service: crate::service::config::ServiceArgs,

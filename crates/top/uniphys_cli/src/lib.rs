@@ -56,8 +56,13 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Worker(args) => service::server::worker(&args),
         Command::Migrate(args) => service::migrate(&args),
         Command::Tenant {
-            action: TenantAction::Create { name, service },
-        } => service::create_tenant(&service, &name),
+            action:
+                TenantAction::Create {
+                    name,
+                    rotate_key,
+                    service,
+                },
+        } => service::create_tenant(&service, &name, rotate_key),
         Command::Stage { action } => match action {
             StageAction::Pause { stage, service } => {
                 service::stage_control(&service, "pause", Some(&stage))

@@ -109,3 +109,46 @@ fn measure_prints_exact_and_voxel_volumes_as_json() {
         assert!((voxel - exact).abs() / exact < 0.05, "{p}");
     }
 }
+
+#[test]
+fn tenant_create_refuses_a_bad_name_and_an_existing_tenant_unless_rotating_its_key() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let data = dir.path().display().to_string();
+    let create = |extra: &[&str]| {
+        let mut args = vec!["tenant", "create"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--data-dir", &data]);
+        // The store is the SQLite file in `data`, whatever the environment names.
+        Command::new(env!("CARGO_BIN_EXE_uniphys"))
+            .args(&args)
+            .env_remove("UNIPHYS_DATABASE_URL")
+            .env_remove("UNIPHYS_DATABASE_SCHEMA")
+            .output()
+            .expect("run uniphys")
+    };
+    let first = create(&["acme"]);
+    assert_eq!(first.status.code(), Some(0), "{first:?}");
+    let key = String::from_utf8_lossy(&first.stdout).trim().to_owned();
+    assert!(key.starts_with("uk_"), "{key}");
+
+    let again = create(&["acme"]);
+    assert_eq!(again.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        stderr.contains("exists") && stderr.contains("--rotate-key"),
+        "{stderr}"
+    );
+    assert!(again.stdout.is_empty(), "no second key is issued");
+
+    let rotated = create(&["acme", "--rotate-key"]);
+    assert_eq!(rotated.status.code(), Some(0), "{rotated:?}");
+    let new_key = String::from_utf8_lossy(&rotated.stdout).trim().to_owned();
+    assert!(new_key.starts_with("uk_") && new_key != key, "{new_key}");
+
+    for bad in ["", "two words", "line\nbreak"] {
+        let o = create(&[bad]);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(stderr.contains("tenant name"), "{bad:?}: {stderr}");
+    }
+}

@@ -38,6 +38,7 @@ pub use read::{JobDetail, StageRunInfo};
 pub use retention::{PurgeReport, RetentionPolicy};
 pub use stats::StageStats;
 pub use submit::{NewAsset, Submission};
+pub use tenants::{MAX_TENANT_NAME_CHARS, validate_tenant_name};
 pub use work::WorkItem;
 
 /// Which database a store runs on.

@@ -15,6 +15,9 @@ static INSERT_KEY: Sql = Sql::new(
 static FIND_TENANT: Sql = Sql::new("SELECT id FROM tenants WHERE name = $1");
 static FIND_KEY: Sql =
     Sql::new("SELECT tenant_id FROM api_keys WHERE key_sha256 = $1 AND revoked_at_ms IS NULL");
+static REVOKE_TENANT_KEYS: Sql = Sql::new(
+    "UPDATE api_keys SET revoked_at_ms = {now} WHERE tenant_id = $1 AND revoked_at_ms IS NULL",
+);
 static REVOKE_KEY: Sql = Sql::new(
     "UPDATE api_keys SET revoked_at_ms = {now} WHERE key_sha256 = $1 AND revoked_at_ms IS NULL",
 );
@@ -35,9 +38,40 @@ fn unique_to_exists(e: QueueError, what: &'static str) -> QueueError {
     }
 }
 
+/// Longest tenant name, in characters.
+pub const MAX_TENANT_NAME_CHARS: usize = 64;
+
+/// Checks a tenant name: 1 to [`MAX_TENANT_NAME_CHARS`] letters, digits, `.`, `_` or `-`
+/// (it appears in logs, metrics and object keys), not starting with `.` or `-`.
+pub fn validate_tenant_name(name: &str) -> QueueResult<()> {
+    let allowed = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
+    let problem = if name.is_empty() {
+        Some("it is empty".to_owned())
+    } else if name.chars().count() > MAX_TENANT_NAME_CHARS {
+        Some(format!(
+            "it has {} characters (at most {MAX_TENANT_NAME_CHARS})",
+            name.chars().count()
+        ))
+    } else if let Some(c) = name.chars().find(|&c| !allowed(c)) {
+        Some(format!("it holds {c:?}"))
+    } else if name.starts_with(['.', '-']) {
+        Some("it starts with . or -".to_owned())
+    } else {
+        None
+    };
+    match problem {
+        Some(problem) => Err(QueueError::Invalid(format!(
+            "tenant name {name:?} is not valid: {problem}; use letters, digits, '.', '_' and '-'"
+        ))),
+        None => Ok(()),
+    }
+}
+
 impl QueueStore {
-    /// Creates a tenant; `AlreadyExists` if the name is taken.
+    /// Creates a tenant; `Invalid` for a name [`validate_tenant_name`] refuses, `AlreadyExists`
+    /// if the name is taken.
     pub async fn create_tenant(&self, name: &str) -> QueueResult<TenantId> {
+        validate_tenant_name(name)?;
         let mut session = self.db.write_one().await?;
         let row = session
             .fetch_one(&INSERT_TENANT, args![name])
@@ -72,6 +106,12 @@ impl QueueStore {
             .await
             .map_err(|e| unique_to_exists(e, "api key"))?;
         Ok(())
+    }
+
+    /// Revokes every key of `tenant`; returns how many were in use.
+    pub async fn revoke_tenant_keys(&self, tenant: TenantId) -> QueueResult<u64> {
+        let mut session = self.db.write_one().await?;
+        session.execute(&REVOKE_TENANT_KEYS, args![tenant.0]).await
     }
 
     /// Returns the tenant of a valid (stored, not revoked) API key.

@@ -44,6 +44,7 @@ conformance!(
     submit::concurrent_resubmits_create_one_asset_and_one_job,
     submit::invalid_or_foreign_submissions_store_nothing,
     submit::api_keys_are_stored_hashed_and_resolve_to_their_tenant,
+    submit::tenant_names_are_validated,
     claim::concurrent_claimers_get_each_run_exactly_once,
     claim::claim_counts_the_attempt_and_sets_the_lease,
     claim::claims_follow_priority_then_age,

@@ -182,5 +182,56 @@ pub async fn api_keys_are_stored_hashed_and_resolve_to_their_tenant(backend: Bac
     assert!(t.store.revoke_api_key(key).await.expect("revoke"));
     assert_eq!(t.store.tenant_for_api_key(key).await.expect("lookup"), None);
     assert!(!t.store.revoke_api_key(key).await.expect("revoke twice"));
+
+    // Rotation: every key of the tenant revoked at once, another tenant's kept.
+    let (first, second) = ("uk_live_rotate_first_000000", "uk_live_rotate_second_00000");
+    t.store
+        .add_api_key(acme, first, "a")
+        .await
+        .expect("add key");
+    t.store
+        .add_api_key(acme, second, "b")
+        .await
+        .expect("add key");
+    let other = t.tenant("other").await;
+    let theirs = "uk_live_other_tenant_key_000";
+    t.store
+        .add_api_key(other, theirs, "c")
+        .await
+        .expect("add key");
+    assert_eq!(
+        t.store.revoke_tenant_keys(acme).await.expect("revoke all"),
+        2
+    );
+    for key in [first, second] {
+        assert_eq!(t.store.tenant_for_api_key(key).await.expect("lookup"), None);
+    }
+    assert_eq!(
+        t.store.tenant_for_api_key(theirs).await.expect("lookup"),
+        Some(other)
+    );
+    t.finish().await;
+}
+
+pub async fn tenant_names_are_validated(backend: Backend) {
+    let Some(t) = harness::open(backend, NO_BACKOFF).await else {
+        return;
+    };
+    let long = "a".repeat(10_000);
+    for bad in [
+        "",
+        "line\nbreak",
+        "with space",
+        "-lead",
+        ".hidden",
+        long.as_str(),
+    ] {
+        let err = t.store.create_tenant(bad).await.expect_err(bad);
+        assert_eq!(err.kind(), QueueErrorKind::InvalidInput, "{bad:?}");
+        assert!(err.to_string().contains("tenant name"), "{err}");
+    }
+    for good in ["acme", "lab-3.eu_west", &"b".repeat(64)] {
+        t.store.create_tenant(good).await.expect(good);
+    }
     t.finish().await;
 }

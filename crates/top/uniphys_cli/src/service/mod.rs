@@ -26,11 +26,13 @@ pub fn migrate(args: &ServiceArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// `uniphys tenant create <name>`: creates a tenant (or finds it) and prints a new API key.
-pub fn create_tenant(args: &ServiceArgs, name: &str) -> anyhow::Result<ExitCode> {
+/// `uniphys tenant create <name> [--rotate-key]`: creates a tenant and prints a new API key; an
+/// existing tenant only with `rotate_key`, which revokes its keys.
+pub fn create_tenant(args: &ServiceArgs, name: &str, rotate_key: bool) -> anyhow::Result<ExitCode> {
     server::runtime()?.block_on(async {
         let opened = runtime::open(args, true).await?;
-        let (tenant, key) = tenants::create_tenant_key(&opened.store, name, "cli").await?;
+        let (tenant, key) =
+            tenants::create_tenant_key(&opened.store, name, "cli", rotate_key).await?;
         eprintln!("{tenant}: new API key (shown once; the service keeps only its digest):");
         println!("{key}");
         opened.store.close().await;

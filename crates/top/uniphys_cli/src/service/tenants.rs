@@ -19,18 +19,26 @@ pub fn new_api_key() -> anyhow::Result<String> {
     Ok(format!("uk_{}", hex::encode(bytes)))
 }
 
-/// Creates tenant `name` (or finds it) and gives it a new key, which is returned.
+/// Creates tenant `name` and gives it a new key, which is returned. An existing tenant is
+/// refused unless `rotate`: then its keys are revoked and the new one replaces them.
 pub async fn create_tenant_key(
     store: &QueueStore,
     name: &str,
     label: &str,
+    rotate: bool,
 ) -> anyhow::Result<(TenantId, String)> {
     let tenant = match store.tenant_by_name(name).await? {
-        Some(id) => id,
+        Some(id) if rotate => {
+            store.revoke_tenant_keys(id).await?;
+            id
+        }
+        Some(id) => anyhow::bail!(
+            "tenant {name:?} exists ({id}) and its keys stay valid; to replace them with a new key, run `uniphys tenant create {name} --rotate-key` (its old keys then stop working)"
+        ),
         None => store
             .create_tenant(name)
             .await
-            .with_context(|| format!("cannot create tenant {name}"))?,
+            .with_context(|| format!("cannot create tenant {name:?}"))?,
     };
     let key = new_api_key()?;
     store.add_api_key(tenant, &key, label).await?;
@@ -46,7 +54,8 @@ pub async fn ensure_local_key(store: &QueueStore, file: &Path) -> anyhow::Result
             return Ok(existing);
         }
     }
-    let (_, key) = create_tenant_key(store, LOCAL_TENANT, "serve").await?;
+    // The file is the local tenant's only holder of a key: a lost one is replaced.
+    let (_, key) = create_tenant_key(store, LOCAL_TENANT, "serve", true).await?;
     if let Some(dir) = file.parent() {
         std::fs::create_dir_all(dir)?;
     }
