@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 use serde_json::Value;
-use uniphys_queue::{AssetInfo, ErrorRecord, JobDetail, StageCost, StageRunInfo};
+use uniphys_queue::{AssetInfo, ErrorRecord, JobDetail, StageCost, StageRunInfo, StageState};
 use utoipa::ToSchema;
 
 /// An asset: one distinct content of one tenant.
@@ -86,7 +86,7 @@ pub struct StageView {
     /// The stage's summary from its output manifest (when succeeded).
     #[schema(value_type = Option<Object>)]
     pub summary: Option<Value>,
-    /// Live progress reported by the worker (while running).
+    /// Live progress reported by the worker; only while the stage runs.
     #[schema(value_type = Option<Object>)]
     pub progress: Option<Value>,
 }
@@ -164,7 +164,9 @@ impl StageView {
             worker_id: run.worker_id.as_ref().map(ToString::to_string),
             cost: run.cost.as_ref().map(CostView::from),
             summary,
-            progress,
+            // Only a stage that runs now has progress: a finished, waiting or retried one would
+            // show its last report ("reading the mesh", half done).
+            progress: progress.filter(|_| run.state == StageState::Running),
         }
     }
 }

@@ -39,18 +39,26 @@ pub async fn status_shows_each_stage_with_progress(backend: Backend) {
     assert_eq!(summary, [("ingest", "ready"), ("export", "blocked")]);
     assert_eq!(stages[0]["max_attempts"], 5);
     assert_eq!(stages[0]["attempt"], 0);
-    assert_eq!(
-        stages[0]["progress"]["total"], 4,
-        "progress comes from the hooks"
+    assert!(
+        stages[0]["progress"].is_null() && stages[1]["progress"].is_null(),
+        "no progress before a stage runs: {stages:?}"
     );
-    assert!(stages[1]["progress"].is_null());
 
-    // A failed attempt shows in the stage's errors; the job answers the same by its own id.
+    // A running stage shows the progress its worker reports.
     let run = &app
         .store
         .claim(&worker(), &["ingest"], LEASE, 1)
         .await
         .expect("claim")[0];
+    let running = app.get(&format!("/v1/jobs/{job}")).await.json();
+    assert_eq!(running["stages"][0]["state"], "running");
+    assert_eq!(
+        running["stages"][0]["progress"]["total"], 4,
+        "progress comes from the hooks"
+    );
+
+    // A failed attempt shows in the stage's errors (and no longer its last progress); the job
+    // answers the same by its own id.
     app.store
         .fail(
             &run.lease,
@@ -64,6 +72,7 @@ pub async fn status_shows_each_stage_with_progress(backend: Backend) {
     assert_eq!(ingest["attempt"], 1);
     assert_eq!(ingest["errors"][0]["message"], "model server timed out");
     assert_eq!(ingest["errors"][0]["kind"], "transient");
+    assert!(ingest["progress"].is_null(), "{ingest}");
 
     let events = app.get(&format!("/v1/jobs/{job}/events")).await.json();
     let kinds: Vec<&str> = events["items"]
