@@ -20,6 +20,7 @@ mod config;
 mod error;
 mod execute;
 mod fleet_rate_limit;
+mod input_error;
 mod outputs;
 mod registry;
 mod source;

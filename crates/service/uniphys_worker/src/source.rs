@@ -9,7 +9,7 @@ use crate::stage::{StageError, StageInput};
 
 /// A local copy of an asset's source; removed on drop.
 pub struct SourceFile {
-    _dir: TempDir,
+    dir: TempDir,
     path: PathBuf,
 }
 
@@ -30,13 +30,30 @@ impl SourceFile {
             .runtime
             .block_on(input.artifacts.get_to_file(uri, &path))
             .map_err(|e| StageError::Transient(format!("reading {uri}: {e}")))?;
-        Ok(Self { _dir: dir, path })
+        Ok(Self { dir, path })
+    }
+
+    /// A copy already at `dir/name` (tests).
+    #[cfg(test)]
+    pub(crate) fn in_dir(dir: TempDir, name: &str) -> Self {
+        let path = dir.path().join(name);
+        Self { dir, path }
     }
 
     /// Where the copy is.
     #[must_use]
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// `message` as the submitter may read it: the worker's temporary folder is never shown (a
+    /// file in it is named by its name alone).
+    #[must_use]
+    pub fn without_local_paths(&self, message: &str) -> String {
+        let dir = self.dir.path().display().to_string();
+        message
+            .replace(&format!("{dir}{}", std::path::MAIN_SEPARATOR), "")
+            .replace(&dir, "the asset's folder")
     }
 
     /// Its file name.

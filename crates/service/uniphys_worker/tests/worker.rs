@@ -201,10 +201,10 @@ async fn a_broken_input_is_dead_lettered_at_once_with_a_readable_error() {
     assert_eq!(ingest.attempt, 1, "a permanent failure is not retried");
     let message = &ingest.errors[0].message;
     assert!(message.contains("the input cannot be read"), "{message}");
-    assert!(
-        message.contains("broken.glb") || message.contains("glTF") || message.contains("GLB"),
-        "{message}"
-    );
+    assert!(message.contains("broken.glb"), "{message}");
+    // The worker's temporary copy is its own business.
+    let temp = std::env::temp_dir().display().to_string();
+    assert!(!message.contains(&temp), "{message}");
     // Downstream waits, so a retry of the dead job can resume it.
     assert_eq!(
         job.stage("convert").expect("convert").state,

@@ -71,7 +71,8 @@ impl Stage for ConvertStage {
         if let Some(face_parts) = stored_face_parts(input)? {
             options.face_parts = Some(face_parts);
         }
-        let output = run(source.path(), &options, &Relay(control)).map_err(classify)?;
+        let output =
+            run(source.path(), &options, &Relay(control)).map_err(|e| classify(&e, &source))?;
         control.check()?;
         let files = output.artifacts.len();
         for artifact in output.artifacts {
@@ -123,8 +124,8 @@ fn add_one(counts: &mut serde_json::Map<String, Value>, key: &str) {
 }
 
 /// A failure the same run may get past later ([`PipelineError::is_transient`]) is retried.
-fn classify(error: PipelineError) -> StageError {
-    let message = format!("the pipeline failed: {error}");
+fn classify(error: &PipelineError, source: &SourceFile) -> StageError {
+    let message = source.without_local_paths(&format!("the pipeline failed: {error}"));
     if error.is_transient() {
         StageError::Transient(message)
     } else {

@@ -12,6 +12,7 @@ use uniphys_decompose::{
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_vision::ClientConfig;
 
+use crate::input_error::unreadable;
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
@@ -62,8 +63,8 @@ impl Stage for DecomposeStage {
         input.upstream("ingest")?;
         control.progress(0.05, "fetching the source");
         let source = SourceFile::fetch(input)?;
-        let loaded = load_asset(source.path(), &self.ingest)
-            .map_err(|e| StageError::Permanent(format!("the input cannot be read: {e}")))?;
+        let loaded =
+            load_asset(source.path(), &self.ingest).map_err(|e| unreadable(&source, &e))?;
         let asset = loaded.asset;
         if !self.mode.applies_to(&asset) {
             let summary = json!({

@@ -4,6 +4,7 @@
 use serde_json::{Value, json};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 
+use crate::input_error::unreadable;
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
@@ -34,8 +35,8 @@ impl Stage for IngestStage {
         let source = SourceFile::fetch(input)?;
         control.check()?;
         control.progress(0.5, "reading the mesh");
-        let loaded = load_asset(source.path(), &self.options)
-            .map_err(|e| StageError::Permanent(format!("the input cannot be read: {e}")))?;
+        let loaded =
+            load_asset(source.path(), &self.options).map_err(|e| unreadable(&source, &e))?;
         let summary = json!({
             "file": source.file_name(),
             "parts": loaded.asset.parts.len(),
