@@ -174,12 +174,28 @@ pub(crate) async fn store_and_submit(
         created = submission.asset_created,
         "asset submitted"
     );
+    let mut source_key = asset.source_uri;
+    if !submission.asset_created {
+        // Known content keeps the object it was first stored as; the same bytes under another
+        // name are not kept a second time.
+        let known = state
+            .store
+            .get_asset(tenant, submission.asset_id)
+            .await?
+            .source_uri;
+        if known != source_key {
+            if let Err(e) = state.artifacts.delete(&source_key).await {
+                tracing::warn!(key = %source_key, error = %e, "a duplicate upload's copy was not removed");
+            }
+            source_key = known;
+        }
+    }
     let answer = SubmitResponse {
         asset_id: submission.asset_id.to_string(),
         job_id: submission.job_id.to_string(),
         created: submission.asset_created,
         content_digest: asset.content_digest,
-        source_key: asset.source_uri,
+        source_key,
         size_bytes: asset.size_bytes,
     };
     Ok((submission.asset_created, answer))

@@ -59,6 +59,17 @@ pub async fn an_upload_creates_an_asset_and_the_same_bytes_return_the_same_ids(b
         .await
         .expect("list");
     assert_eq!(jobs.len(), 1);
+
+    // The same bytes under other names: the same asset, its own key, and no second copy.
+    for name in ["copy.glb", "another.glb"] {
+        let renamed = app.upload(name, bytes).await;
+        assert_eq!(renamed.status, StatusCode::OK, "{name}");
+        let renamed = renamed.json();
+        assert_eq!(renamed["asset_id"], json["asset_id"]);
+        assert_eq!(renamed["source_key"], key.as_str(), "{name}");
+    }
+    let stored = app.artifacts.list("sources").await.expect("list");
+    assert_eq!(stored, vec![key.clone()], "one object per content");
     assert_eq!(app.spool_files(), 0, "spool files are removed");
     app.finish().await;
 }
