@@ -22,7 +22,8 @@ impl SourceFile {
             .next()
             .filter(|n| !n.is_empty() && *n != "." && *n != "..")
             .ok_or_else(|| StageError::Permanent(format!("source key {uri:?} has no file name")))?;
-        let dir = tempfile::tempdir()
+        // Private to this user: another local account must not read a tenant's file.
+        let dir = private_temp_dir()
             .map_err(|e| StageError::Transient(format!("temporary directory: {e}")))?;
         let path = dir.path().join(name);
         // Streamed to disk: sources may be hundreds of megabytes.
@@ -63,5 +64,32 @@ impl SourceFile {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
+    }
+}
+
+/// A new temporary folder only its owner can enter (0700), named for the worker.
+fn private_temp_dir() -> std::io::Result<TempDir> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix("uniphys-source-");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o700));
+    }
+    builder.tempdir()
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use std::os::unix::fs::PermissionsExt;
+
+    #[test]
+    fn the_temporary_folder_is_the_owners_only() {
+        let dir = super::private_temp_dir().expect("tempdir");
+        let mode = std::fs::metadata(dir.path())
+            .expect("metadata")
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o777, 0o700);
     }
 }

@@ -39,6 +39,41 @@ enum Conn<'a> {
     Sqlite(&'a mut SqliteConnection),
 }
 
+/// Creates the SQLite file at `path` readable and writable by its owner only (0600), or makes
+/// an existing one of ours so; a folder that does not exist is left for SQLite to report.
+fn private_database_file(path: &std::path::Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
+        if path
+            .parent()
+            .is_some_and(|d| !d.as_os_str().is_empty() && !d.is_dir())
+        {
+            return Ok(());
+        }
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .mode(0o600)
+            .open(path)
+        {
+            Ok(_) => Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                // Best effort on a file made by an older version: another owner's file is
+                // opened as it is.
+                let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o600));
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        Ok(())
+    }
+}
+
 impl Db {
     /// Opens the pools for `config.url` (`postgres://…` or `sqlite:…`); connects lazily.
     pub(crate) fn open(config: &StoreConfig) -> QueueResult<Self> {
@@ -68,7 +103,16 @@ impl Db {
                     "a schema applies to Postgres only".into(),
                 ));
             }
-            let options = SqliteConnectOptions::from_str(url)?
+            let options = SqliteConnectOptions::from_str(url)?;
+            // Only this user reads the queue (API key digests, tenants' files by name); SQLite
+            // gives its journal files the database file's mode.
+            private_database_file(options.get_filename()).map_err(|e| {
+                QueueError::Invalid(format!(
+                    "cannot create the database file {}: {e}",
+                    options.get_filename().display()
+                ))
+            })?;
+            let options = options
                 .create_if_missing(true)
                 .journal_mode(SqliteJournalMode::Wal)
                 .synchronous(SqliteSynchronous::Normal)
@@ -218,5 +262,35 @@ impl Session {
             Self::PgAuto(_) | Self::SqliteAuto(_) => {}
         }
         Ok(())
+    }
+}
+
+#[cfg(all(test, unix))]
+mod private_file_tests {
+    use std::os::unix::fs::PermissionsExt;
+
+    use super::private_database_file;
+
+    fn mode(path: &std::path::Path) -> u32 {
+        std::fs::metadata(path)
+            .expect("metadata")
+            .permissions()
+            .mode()
+            & 0o777
+    }
+
+    #[test]
+    fn a_new_database_file_is_the_owners_only_and_an_old_one_becomes_so() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let new = dir.path().join("queue.db");
+        private_database_file(&new).expect("create");
+        assert_eq!(mode(&new), 0o600);
+        let old = dir.path().join("old.db");
+        std::fs::write(&old, b"").expect("write");
+        std::fs::set_permissions(&old, std::fs::Permissions::from_mode(0o644)).expect("chmod");
+        private_database_file(&old).expect("tighten");
+        assert_eq!(mode(&old), 0o600);
+        // A folder that does not exist is left for SQLite to report.
+        private_database_file(&dir.path().join("missing/queue.db")).expect("left alone");
     }
 }
