@@ -4,23 +4,26 @@
 
 use std::path::Path;
 
-use uniphys_decompose::DecomposeOptions;
 use uniphys_decompose::output::obj_text;
+use uniphys_decompose::{BuiltinSegmenter, DecomposeOptions, GeometricGenerator, decompose_asset};
 use uniphys_eval::{
     AnnotatedAsset, PartOverlap, annotated_from_mesh_asset, load_prediction_with_surfaces,
     load_urdf_asset, match_parts_by_overlap, mesh_asset_part_surfaces, renamed_by_overlap,
 };
-use uniphys_geometry::TriMesh;
+use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
 use uniphys_mesh_io::IngestOptions;
 use uniphys_pipeline::{NoProgress, RunOptions, run};
 use uniphys_types::UpAxis;
 
 /// The prediction (its parts renamed to the true parts they match), the ground truth, and the
-/// part matches; the message of the first step that failed otherwise.
+/// part matches; the message of the first step that failed otherwise. A mesh the stage cuts
+/// into more than `max_parts` parts is left out with that reason: grounding takes minutes per
+/// few dozen parts.
 pub(crate) fn run_decomposed(
     urdf: &Path,
     ingest: &IngestOptions,
     work: &Path,
+    max_parts: usize,
 ) -> Result<(AnnotatedAsset, AnnotatedAsset, Vec<PartOverlap>), String> {
     let text = |e: &dyn std::fmt::Display| e.to_string();
     let truth = load_urdf_asset(urdf, ingest).map_err(|e| text(&e))?;
@@ -30,6 +33,31 @@ pub(crate) fn run_decomposed(
         triangles: merged.triangles,
         ..TriMesh::default()
     };
+    // Decomposed here to count the parts (the run decomposes the mesh it reads again: a second
+    // or so).
+    let single = MeshAsset {
+        parts: vec![MeshPart {
+            name: "object".into(),
+            mesh: bare.clone(),
+        }],
+        materials: Vec::new(),
+        textures: Vec::new(),
+        joints: Vec::new(),
+    };
+    let decompose = DecomposeOptions::default();
+    let (_, decomposition) = decompose_asset(
+        &single,
+        &BuiltinSegmenter::default(),
+        &GeometricGenerator::default(),
+        &decompose,
+    )
+    .map_err(|e| text(&e))?;
+    if decomposition.part_count > max_parts {
+        return Err(format!(
+            "decomposed into {} parts, more than --max-parts {max_parts}",
+            decomposition.part_count
+        ));
+    }
     std::fs::create_dir_all(work).map_err(|e| text(&e))?;
     let input = work.join("merged.obj");
     std::fs::write(&input, obj_text(&bare)).map_err(|e| text(&e))?;
@@ -42,7 +70,7 @@ pub(crate) fn run_decomposed(
             max_triangles: ingest.max_triangles,
             ..IngestOptions::default()
         },
-        decompose: Some(DecomposeOptions::default()),
+        decompose: Some(decompose),
         ..RunOptions::default()
     };
     options.verify.dynamics = None;

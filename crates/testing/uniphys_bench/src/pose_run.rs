@@ -101,14 +101,16 @@ pub(crate) fn run_pose(
         eprintln!("{pose:?}: {}", asset.name);
         let run_start = Instant::now();
         let result = match &asset.ground_truth {
-            GroundTruth::Urdf(urdf) if args.decompose => {
-                run_decomposed(urdf, &ingest, &scratch.join(format!("decomposed-{index}"))).map(
-                    |(pred, gt, matches)| {
-                        let recovered = movable_recovered(&gt, &matches);
-                        (pred, gt, Some(recovered))
-                    },
-                )
-            }
+            GroundTruth::Urdf(urdf) if args.decompose => run_decomposed(
+                urdf,
+                &ingest,
+                &scratch.join(format!("decomposed-{index}")),
+                args.max_parts,
+            )
+            .map(|(pred, gt, matches)| {
+                let recovered = movable_recovered(&gt, &matches);
+                (pred, gt, Some(recovered))
+            }),
             _ => run_one(asset, &ingest).map(|(pred, gt)| (pred, gt, None)),
         };
         let run_time = run_start.elapsed();
