@@ -3,10 +3,12 @@
 //! `part_1`, ...).
 //!
 //! Both sides' surfaces are sampled in their own `[0, 2]` model frames (so a run's unit and rest
-//! translation cancel, as they do for pivots), each sample lies on the part of the other side
-//! nearest to it (and on any other as near: surfaces that coincide at rest), and the parts are matched one-to-one by the IoU of the surface they share, as
-//! the optimal assignment over all pairs; a pair sharing less than [`MIN_MATCH_IOU`] is no match
-//! (the true part was not recovered, so its joint has no prediction).
+//! translation cancel, as they do for pivots); each sample lies on the part of the other side
+//! nearest to it, and on any other as near (surfaces that coincide at rest, such as a door's face
+//! and the cabinet's front); the parts are matched one to one by the IoU of the surface they
+//! share, as the optimal assignment over all pairs, and a pair sharing less than
+//! [`MIN_MATCH_IOU`] is no match (the true part was not recovered, so its joint has no
+//! prediction).
 
 use std::collections::BTreeMap;
 
