@@ -6,6 +6,7 @@ use uniphys_queue::QueueStore;
 use uniphys_storage::ArtifactStore;
 
 use crate::board::Board;
+use crate::upload::{STALE_SPOOL, sweep_stale_spool};
 use crate::{ApiConfig, NoHooks, ServiceHooks};
 
 /// The API's dependencies. [`crate::router`] wraps it in an `Arc`, so it need not be cheap to
@@ -25,9 +26,17 @@ pub struct ApiState {
 }
 
 impl ApiState {
-    /// A state with [`NoHooks`].
+    /// A state with [`NoHooks`]. Spool files a crash left in the upload folder (untouched for
+    /// an hour) are removed first.
     #[must_use]
     pub fn new(store: QueueStore, artifacts: ArtifactStore, config: ApiConfig) -> Self {
+        let swept = sweep_stale_spool(config.upload_tmp_dir.as_deref(), STALE_SPOOL);
+        if swept > 0 {
+            tracing::info!(
+                files = swept,
+                "removed upload spool files left by an earlier crash"
+            );
+        }
         Self {
             store,
             artifacts,

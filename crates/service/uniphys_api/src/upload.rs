@@ -14,6 +14,10 @@ use crate::error::{ApiError, ApiResult, error_chain};
 
 /// Longest stored filename, in bytes (the extension is kept when a name is cut).
 const MAX_FILENAME_BYTES: usize = 120;
+/// Spool files of this service start with this, so a restart can sweep the ones a crash left.
+const SPOOL_PREFIX: &str = "uniphys-upload-";
+/// A spool file untouched this long belongs to no upload in progress.
+pub(crate) const STALE_SPOOL: std::time::Duration = std::time::Duration::from_secs(3600);
 
 /// An upload on local disk (deleted when dropped), with its digest and size.
 #[derive(Debug)]
@@ -52,7 +56,7 @@ where
 {
     let (file, path) = tokio::task::spawn_blocking(move || {
         let mut builder = tempfile::Builder::new();
-        builder.prefix("upload-");
+        builder.prefix(SPOOL_PREFIX);
         match dir {
             Some(dir) => builder.tempfile_in(dir),
             None => builder.tempfile(),
@@ -80,6 +84,30 @@ where
         sha256_hex: hex::encode(hasher.finalize()),
         size_bytes,
     })
+}
+
+/// Removes this service's spool files in `dir` (or the system temp dir) untouched for
+/// `older_than`: uploads a crash cut off. Returns how many were removed.
+pub(crate) fn sweep_stale_spool(
+    dir: Option<&std::path::Path>,
+    older_than: std::time::Duration,
+) -> usize {
+    let dir = dir.map_or_else(std::env::temp_dir, std::path::Path::to_path_buf);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().starts_with(SPOOL_PREFIX))
+        .filter(|e| {
+            e.metadata()
+                .and_then(|m| m.modified())
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .is_some_and(|age| age >= older_than)
+        })
+        .filter(|e| std::fs::remove_file(e.path()).is_ok())
+        .count()
 }
 
 fn spool_error(e: std::io::Error) -> ApiError {
@@ -170,6 +198,27 @@ pub(crate) fn content_type_for(name: &str) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_restart_sweeps_only_its_own_stale_spool_files() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let old = dir.path().join(format!("{SPOOL_PREFIX}old"));
+        let fresh = dir.path().join(format!("{SPOOL_PREFIX}fresh"));
+        let other = dir.path().join("upload-someone-else");
+        for path in [&old, &fresh, &other] {
+            std::fs::write(path, b"x").expect("write");
+        }
+        let two_hours_ago = std::time::SystemTime::now() - 2 * STALE_SPOOL;
+        for path in [&old, &other] {
+            std::fs::File::options()
+                .write(true)
+                .open(path)
+                .and_then(|f| f.set_modified(two_hours_ago))
+                .expect("age the file");
+        }
+        assert_eq!(sweep_stale_spool(Some(dir.path()), STALE_SPOOL), 1);
+        assert!(!old.exists() && fresh.exists() && other.exists());
+    }
 
     #[test]
     fn filenames_keep_their_basename_and_extension_only() {
