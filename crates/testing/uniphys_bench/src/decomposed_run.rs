@@ -1,6 +1,7 @@
 //! `articulation-bench --decompose`: a URDF asset merged into one mesh at rest (no parts, names
-//! or joints), run with decomposition as `uniphys run --decompose` does, and its parts paired
-//! with the true ones by shared surface, as `uniphys eval --match-parts overlap` pairs them.
+//! or joints), decomposed by the built-in stage as `uniphys run --decompose` does, run, and its
+//! parts paired with the true ones by shared surface, as `uniphys eval --match-parts overlap`
+//! pairs them.
 
 use std::path::Path;
 
@@ -10,8 +11,8 @@ use uniphys_eval::{
     AnnotatedAsset, PartOverlap, annotated_from_mesh_asset, load_prediction_with_surfaces,
     load_urdf_asset, match_parts_by_overlap, mesh_asset_part_surfaces, renamed_by_overlap,
 };
-use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
-use uniphys_mesh_io::IngestOptions;
+use uniphys_geometry::TriMesh;
+use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_pipeline::{NoProgress, RunOptions, run};
 use uniphys_types::UpAxis;
 
@@ -33,31 +34,6 @@ pub(crate) fn run_decomposed(
         triangles: merged.triangles,
         ..TriMesh::default()
     };
-    // Decomposed here to count the parts (the run decomposes the mesh it reads again: a second
-    // or so).
-    let single = MeshAsset {
-        parts: vec![MeshPart {
-            name: "object".into(),
-            mesh: bare.clone(),
-        }],
-        materials: Vec::new(),
-        textures: Vec::new(),
-        joints: Vec::new(),
-    };
-    let decompose = DecomposeOptions::default();
-    let (_, decomposition) = decompose_asset(
-        &single,
-        &BuiltinSegmenter::default(),
-        &GeometricGenerator::default(),
-        &decompose,
-    )
-    .map_err(|e| text(&e))?;
-    if decomposition.part_count > max_parts {
-        return Err(format!(
-            "decomposed into {} parts, more than --max-parts {max_parts}",
-            decomposition.part_count
-        ));
-    }
     std::fs::create_dir_all(work).map_err(|e| text(&e))?;
     let input = work.join("merged.obj");
     std::fs::write(&input, obj_text(&bare)).map_err(|e| text(&e))?;
@@ -70,10 +46,26 @@ pub(crate) fn run_decomposed(
             max_triangles: ingest.max_triangles,
             ..IngestOptions::default()
         },
-        decompose: Some(decompose),
         ..RunOptions::default()
     };
     options.verify.dynamics = None;
+    // Decomposed here, on the mesh as the run reads it, to count the parts; the run applies
+    // this face-to-part map instead of decomposing again.
+    let read = load_asset(&input, &options.ingest).map_err(|e| text(&e))?;
+    let (_, decomposition) = decompose_asset(
+        &read.asset,
+        &BuiltinSegmenter::default(),
+        &GeometricGenerator::default(),
+        &DecomposeOptions::default(),
+    )
+    .map_err(|e| text(&e))?;
+    if decomposition.part_count > max_parts {
+        return Err(format!(
+            "decomposed into {} parts, more than --max-parts {max_parts}",
+            decomposition.part_count
+        ));
+    }
+    options.face_parts = Some(decomposition.face_part);
     let output = run(&input, &options, &NoProgress).map_err(|e| text(&e))?;
     let out = work.join("out");
     for artifact in &output.artifacts {
