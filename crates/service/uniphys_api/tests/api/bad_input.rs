@@ -2,7 +2,7 @@
 
 use axum::body::Body;
 use axum::http::{Method, StatusCode, header};
-use uniphys_queue::{Backend, JobFilter};
+use uniphys_queue::Backend;
 
 use crate::harness::{KEY, OTHER_KEY, TestApp};
 
@@ -29,20 +29,7 @@ pub async fn an_oversize_upload_is_413_and_stores_nothing(backend: Backend) {
         .await;
     assert_eq!(declared.status, StatusCode::PAYLOAD_TOO_LARGE);
 
-    let jobs = app
-        .store
-        .list_jobs(app.tenant, &JobFilter::default())
-        .await
-        .expect("list");
-    assert!(jobs.is_empty(), "no job");
-    assert!(
-        app.artifacts
-            .list("sources")
-            .await
-            .expect("list")
-            .is_empty(),
-        "no object"
-    );
+    app.assert_nothing_submitted().await;
     assert_eq!(app.spool_files(), 0, "no spool file");
     assert!(app.hooks.doorbells.lock().expect("lock").is_empty());
     // At the limit is fine.
@@ -347,19 +334,6 @@ pub async fn unsupported_types_and_empty_files_are_refused_at_submission(backend
     assert_eq!(empty.status, StatusCode::UNPROCESSABLE_ENTITY);
     assert!(empty.error().1.contains("is empty"), "{}", empty.error().1);
 
-    let jobs = app
-        .store
-        .list_jobs(app.tenant, &JobFilter::default())
-        .await
-        .expect("list");
-    assert!(jobs.is_empty(), "nothing submitted: {jobs:?}");
-    assert!(
-        app.artifacts
-            .list("sources")
-            .await
-            .expect("list")
-            .is_empty(),
-        "nothing stored"
-    );
+    app.assert_nothing_submitted().await;
     app.finish().await;
 }

@@ -13,7 +13,7 @@ use serde_json::Value;
 use sqlx::Connection;
 use tower::ServiceExt;
 use uniphys_api::{ApiConfig, ApiState, BoxFuture, MetricsText, ReadinessCheck, ServiceHooks};
-use uniphys_queue::{Backend, JobId, JobSpec, QueueStore, StoreConfig, TenantId};
+use uniphys_queue::{Backend, JobFilter, JobId, JobSpec, QueueStore, StoreConfig, TenantId};
 use uniphys_storage::ArtifactStore;
 
 /// The key of the tenant most cases act as.
@@ -233,6 +233,18 @@ impl TestApp {
     }
 
     /// Files left in the spool directory.
+    /// Asserts the tenant has no job and the store no source object (a refused submission).
+    pub async fn assert_nothing_submitted(&self) {
+        let jobs = self
+            .store
+            .list_jobs(self.tenant, &JobFilter::default())
+            .await
+            .expect("list");
+        assert!(jobs.is_empty(), "no job: {jobs:?}");
+        let sources = self.artifacts.list("sources").await.expect("list");
+        assert!(sources.is_empty(), "no object: {sources:?}");
+    }
+
     pub fn spool_files(&self) -> usize {
         std::fs::read_dir(&self.spool_dir)
             .expect("spool dir")
