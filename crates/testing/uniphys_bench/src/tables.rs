@@ -57,13 +57,13 @@ pub(crate) fn pose_section(pose: Pose, result: &PoseResult) -> String {
     let s = &result.overall.input_summary;
     let matching = match result.recovered {
         Some((found, all)) => format!(
-            "parts paired with the true ones by shared surface ({found} of {all} moving true parts found), then"
+            "parts paired with the true ones by shared surface ({found} of {all} moving true parts found), then "
         ),
         None => String::new(),
     };
     let _ = writeln!(
         out,
-        "## {} ({} assets, {} GT movable joints, {} matched by {matching} child part name; {:.1} s)\n",
+        "## {} ({} assets, {} GT movable joints, {} matched by {matching}child part name; {:.1} s)\n",
         pose_label(pose),
         result.rows.len(),
         s.gt_movable_joints,
