@@ -1,6 +1,7 @@
 //! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
-//! second split, small-part merge, the mesh's pieces made whole and small controls kept.
+//! second split, small-part merge, the mesh's pieces made whole and small controls kept, hidden
+//! parts merged into the largest.
 
 use std::time::Instant;
 
@@ -8,6 +9,7 @@ use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
 
 use crate::apriori::{AprioriOptions, merge_parts};
 use crate::candidates::{CandidateGenerator, CandidateRequest};
+use crate::hidden::{HiddenOptions, merge_hidden_parts};
 use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepTiming};
 use crate::perception::{PerceptionOptions, perceive};
 use crate::pieces::{PieceOptions, respect_pieces};
@@ -50,6 +52,8 @@ pub struct DecomposeOptions {
     pub small_parts: SmallPartOptions,
     /// Connected pieces made whole, small compact pieces kept as parts.
     pub pieces: PieceOptions,
+    /// Parts hidden inside the closed object merged into the largest part.
+    pub hidden: HiddenOptions,
     /// Seed for anything random (default 0).
     pub seed: u64,
 }
@@ -68,6 +72,7 @@ impl Default for DecomposeOptions {
             apriori: AprioriOptions::default(),
             small_parts: SmallPartOptions::default(),
             pieces: PieceOptions::default(),
+            hidden: HiddenOptions::default(),
             seed: 0,
         }
     }
@@ -107,6 +112,19 @@ impl DecomposeOptions {
             (
                 "pieces.control_compactness_min",
                 self.pieces.control_compactness_min,
+                0.0,
+                1.0,
+            ),
+            ("hidden.skip_rel", self.hidden.skip_rel, 0.0, 1.0),
+            (
+                "hidden.exposed_share_max",
+                self.hidden.exposed_share_max,
+                0.0,
+                1.0,
+            ),
+            (
+                "hidden.area_fraction_min",
+                self.hidden.area_fraction_min,
                 0.0,
                 1.0,
             ),
@@ -253,16 +271,28 @@ pub fn decompose(
         make_whole: options.pieces.make_whole && !generator.learned(),
         ..options.pieces.clone()
     };
-    let (face_part, part_count, pieces) = respect_pieces(mesh, &small_merged, &piece_options);
+    let (whole, whole_parts, pieces) = respect_pieces(mesh, &small_merged, &piece_options);
     lap("pieces", &mut timings);
+
+    let (face_part, part_count, hidden_parts_merged) =
+        merge_hidden_parts(mesh, &whole, &options.hidden);
+    lap("hidden", &mut timings);
     let one_part_reason = (part_count == 1).then(|| {
-        one_part_reason(
-            pieces.pieces,
-            selection.k,
-            merged.part_count,
-            refined_again_parts,
-            piece_options.make_whole,
-        )
+        if whole_parts > 1 {
+            format!(
+                "the {} parts other than the largest are hidden inside it (no ray from them \
+                 leaves the closed object), so they were merged into it",
+                whole_parts - 1
+            )
+        } else {
+            one_part_reason(
+                pieces.pieces,
+                selection.k,
+                merged.part_count,
+                refined_again_parts,
+                piece_options.make_whole,
+            )
+        }
     });
 
     let summary = DecomposeSummary {
@@ -289,6 +319,7 @@ pub fn decompose(
         pieces: pieces.pieces,
         pieces_made_whole: pieces.pieces_made_whole,
         controls_kept: pieces.controls_kept,
+        hidden_parts_merged,
         one_part_reason,
         final_parts: part_count,
         merge_strategy: merged.strategy,

@@ -15,6 +15,8 @@
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
 //!   split, small fragments merged; all thresholds relative to the object size; [`pieces`]: the
 //!   mesh's connected pieces made whole, small compact pieces (knobs, buttons) kept as parts;
+//!   [`hidden`]: parts hidden inside the closed object (unreachable, so not operable) merged
+//!   into the largest part;
 //! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
@@ -25,6 +27,7 @@ pub mod candidates;
 pub mod consensus;
 pub mod decompose;
 mod error;
+pub mod hidden;
 pub mod lift;
 pub mod output;
 pub mod perception;
@@ -45,6 +48,7 @@ pub use candidates::{
 };
 pub use decompose::{DecomposeOptions, decompose, decompose_asset};
 pub use error::{DecomposeError, DecomposeResult};
+pub use hidden::{HiddenOptions, merge_hidden_parts};
 pub use lift::FaceSet;
 pub use output::{DecomposeSummary, Decomposition};
 pub use perception::{Perception, PerceptionOptions, perceive};

@@ -73,6 +73,10 @@ pub struct DecomposeSummary {
     pub pieces_made_whole: usize,
     /// Small compact pieces (knobs, buttons) split off the larger part they had been merged into.
     pub controls_kept: usize,
+    /// Parts hidden inside the object when it is closed (unreachable, so not operable), merged
+    /// into the largest part.
+    #[serde(default)]
+    pub hidden_parts_merged: usize,
     /// When the stage found a single part, why (which step joined everything, or that the mesh
     /// is one piece).
     #[serde(skip_serializing_if = "Option::is_none")]
