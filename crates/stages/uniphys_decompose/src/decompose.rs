@@ -280,8 +280,8 @@ pub fn decompose(
     let one_part_reason = (part_count == 1).then(|| {
         if whole_parts > 1 {
             format!(
-                "the {} parts other than the largest are hidden inside it (no ray from them \
-                 leaves the closed object), so they were merged into it",
+                "every part other than the largest ({} of {whole_parts}) is hidden inside it (no \
+                 ray from it leaves the closed object), so all were merged into it",
                 whole_parts - 1
             )
         } else {
