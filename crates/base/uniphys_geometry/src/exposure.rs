@@ -64,8 +64,10 @@ impl ExposureProbe {
     }
 }
 
-/// `n` unit directions spread evenly over the sphere (a Fibonacci lattice).
-fn sphere_directions(n: usize) -> Vec<DVec3> {
+/// `n` unit directions spread evenly over the sphere (a Fibonacci lattice), from near +z to near
+/// -z.
+#[must_use]
+pub fn sphere_directions(n: usize) -> Vec<DVec3> {
     let golden = std::f64::consts::PI * (3.0 - 5.0f64.sqrt());
     (0..n)
         .map(|i| {

@@ -45,7 +45,7 @@ pub use contact::{ContactParams, ContactRegion, contact_region, min_distance_m};
 pub use convex::{ConvexParams, convex_decomposition};
 pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
-pub use exposure::ExposureProbe;
+pub use exposure::{ExposureProbe, sphere_directions};
 pub use glam::{DMat3, DMat4, DQuat, DVec3};
 pub use hull::convex_hull;
 pub use inertia::{TRIANGLE_MARGIN, inertia_is_physical, with_triangle_margin};

@@ -40,15 +40,7 @@ pub fn orbit_directions(count: usize) -> Vec<DVec3> {
             .map(|d| DVec3::from_array(*d).normalize())
             .collect();
     }
-    let golden_angle_rad = std::f64::consts::PI * (3.0 - 5.0_f64.sqrt());
-    (0..count)
-        .map(|i| {
-            let z = 1.0 - (2.0 * i as f64 + 1.0) / count as f64;
-            let ring = (1.0 - z * z).max(0.0).sqrt();
-            let phi = golden_angle_rad * i as f64;
-            DVec3::new(ring * phi.cos(), ring * phi.sin(), z)
-        })
-        .collect()
+    uniphys_geometry::sphere_directions(count)
 }
 
 /// One camera looking at the centre of `bounds` from `direction_world` (from the centre towards

@@ -50,18 +50,25 @@ fn decomposed(name: &str) -> (TriMesh, Vec<u32>, Vec<Option<JointKind>>, Decompo
     (bare, truth, motion, decomposition)
 }
 
+/// Per true part, its area IoU with the found part matched to it.
+fn true_part_ious(mesh: &TriMesh, truth: &[u32], decomposition: &Decomposition) -> Vec<f64> {
+    let areas: Vec<f64> = (0..mesh.triangle_count())
+        .map(|f| mesh.face_area(f))
+        .collect();
+    match_parts(&decomposition.face_part, truth, &areas)
+        .expect("match")
+        .iou
+}
+
 #[test]
 fn the_knobs_of_an_oven_are_parts_of_their_own() {
     // Eight knobs (continuous joints) on the control panel of an oven with a drawer. Before the
     // mesh's pieces were used, all eight vanished into the body.
     let (mesh, truth, motion, decomposition) = decomposed("kitchen-101921");
-    let areas: Vec<f64> = (0..mesh.triangle_count())
-        .map(|f| mesh.face_area(f))
-        .collect();
-    let matching = match_parts(&decomposition.face_part, &truth, &areas).expect("match");
+    let ious = true_part_ious(&mesh, &truth, &decomposition);
     let knobs: Vec<f64> = motion
         .iter()
-        .zip(&matching.iou)
+        .zip(&ious)
         .filter(|(kind, _)| **kind == Some(JointKind::Continuous))
         .map(|(_, &iou)| iou)
         .collect();
@@ -112,14 +119,11 @@ fn the_hidden_inner_panels_of_a_cabinet_join_its_body() {
     // A cabinet with one door: clustering cut its inner walls and shelves, which nobody can
     // reach with the door closed, off the body as parts of their own (body IoU 0.50 before).
     let (mesh, truth, motion, decomposition) = decomposed("kitchen-45850");
-    let areas: Vec<f64> = (0..mesh.triangle_count())
-        .map(|f| mesh.face_area(f))
-        .collect();
-    let matching = match_parts(&decomposition.face_part, &truth, &areas).expect("match");
+    let ious = true_part_ious(&mesh, &truth, &decomposition);
     let iou_of = |moving: bool| -> Vec<f64> {
         motion
             .iter()
-            .zip(&matching.iou)
+            .zip(&ious)
             .filter(|(kind, _)| kind.is_some() == moving)
             .map(|(_, &iou)| iou)
             .collect()

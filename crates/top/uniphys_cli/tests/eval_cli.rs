@@ -175,29 +175,23 @@ fn parts_named_otherwise_are_paired_by_shared_surface_when_asked() {
     let k = &by_surface["tasks"]["kinematic_parameters"]["paper_metrics"];
     assert_eq!(k["joint_type_accuracy"], 1.0, "{k}");
 
-    // The text report lists the matches; a dataset entity has no part meshes to match.
-    let o = uniphys(&[
-        "eval",
-        "--pred",
-        &out_s,
-        "--gt",
-        &gt,
-        "--match-parts",
-        "overlap",
-    ]);
+    // The text report lists the matches; a prediction without its part meshes is refused.
+    let text_by_surface = || {
+        uniphys(&[
+            "eval",
+            "--pred",
+            &out_s,
+            "--gt",
+            &gt,
+            "--match-parts",
+            "overlap",
+        ])
+    };
+    let o = text_by_surface();
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("| truth | link_0 | door |"), "{text}");
-    let parts_dir = out.join("parts");
-    std::fs::remove_dir_all(&parts_dir).expect("remove the part meshes");
-    let o = uniphys(&[
-        "eval",
-        "--pred",
-        &out_s,
-        "--gt",
-        &gt,
-        "--match-parts",
-        "overlap",
-    ]);
+    std::fs::remove_dir_all(out.join("parts")).expect("remove the part meshes");
+    let o = text_by_surface();
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("parts/part_<id>.obj"), "{}", stderr(&o));
 }

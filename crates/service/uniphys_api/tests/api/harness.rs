@@ -232,7 +232,6 @@ impl TestApp {
         )
     }
 
-    /// Files left in the spool directory.
     /// Asserts the tenant has no job and the store no source object (a refused submission).
     pub async fn assert_nothing_submitted(&self) {
         let jobs = self
@@ -245,6 +244,7 @@ impl TestApp {
         assert!(sources.is_empty(), "no object: {sources:?}");
     }
 
+    /// Files left in the spool directory.
     pub fn spool_files(&self) -> usize {
         std::fs::read_dir(&self.spool_dir)
             .expect("spool dir")
