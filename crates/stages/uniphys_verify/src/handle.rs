@@ -36,7 +36,7 @@ const STAND_OUT_OF_DIAGONAL: f64 = 0.01;
 const SHARE_RANGE: (f64, f64) = (0.002, 0.3);
 
 /// Whether a part's box is a panel: thinner than [`PANEL_SLAB_RATIO`] of its middle extent.
-fn is_panel(part: &PartBox) -> bool {
+pub(crate) fn is_panel(part: &PartBox) -> bool {
     let [thinnest, middle, _] = part.sorted_extents();
     thinnest < PANEL_SLAB_RATIO * middle
 }
@@ -137,7 +137,7 @@ fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
 /// A hinge runs along a panel's edge when its axis is this far at most from the panel's plane
 /// (|cosine| to the panel's normal): a door's or a lid's, not a knob's or a blade's, which turn
 /// about their normal.
-const IN_PLANE_COS_MAX: f64 = 0.5;
+pub(crate) const IN_PLANE_COS_MAX: f64 = 0.5;
 
 /// What stands out of a panel's face within this share of the moving parts' diagonal of its
 /// parent touches it: a hinge or a fitting, not a handle (a laptop's hinge cover: 0.2 %; door

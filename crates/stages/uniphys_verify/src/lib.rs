@@ -4,8 +4,10 @@
 //! - articulation sweeps: each joint moved through its range; contact with its parent, the
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
 //!   gap to its parent and its direction against the face it sits on, a turning axis held by
-//!   its part, a panel's hinge away from its handle ([`panel_handle`]), and interpenetration of
-//!   convex colliders (a measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
+//!   its part, a panel's hinge away from its handle ([`panel_handle`]), a panel turned in its
+//!   own plane only when round or held across both faces ([`InPlaneTurn`]), nothing taken
+//!   below the ground the object stands on, and interpenetration of convex colliders (a
+//!   measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
 //!   sweep, which rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
 //!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
@@ -28,6 +30,7 @@ mod error;
 mod fit;
 mod handle;
 mod held;
+mod in_plane;
 mod intrinsic;
 mod motion;
 mod part_box;
@@ -49,6 +52,7 @@ pub use candidates::{
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
 pub use handle::{PANEL_SLAB_RATIO, panel_handle};
+pub use in_plane::InPlaneTurn;
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use part_box::PartBox;

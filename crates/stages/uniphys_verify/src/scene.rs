@@ -22,6 +22,9 @@ pub struct Scene {
     pub diagonal_m: f64,
     /// Centre of the whole object's bounds, object frame, metres.
     pub centre_m: DVec3,
+    /// Height of the ground the object stands on: its lowest point at rest (the service frame
+    /// is Z up with the asset resting on the ground), metres.
+    pub ground_z_m: f64,
 }
 
 impl Scene {
@@ -61,6 +64,7 @@ impl Scene {
             areas_m2: meshes.iter().map(TriMesh::area).collect(),
             diagonal_m,
             centre_m: bounds.center(),
+            ground_z_m: bounds.min.z,
         })
     }
 

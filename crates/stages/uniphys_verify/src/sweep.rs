@@ -11,6 +11,7 @@ use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
     slide_against_contact, slide_touch_m,
 };
+use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
 use crate::patch::{PatchParams, grow_patch};
 use crate::scene::Scene;
@@ -83,6 +84,21 @@ pub struct SweepParams {
     /// group's diagonal from the group's surface: a hinge pin or spin axis is held by the part it
     /// turns (true joints of real objects: at most 3.3 %).
     pub hinge_off_part_fraction: f64,
+    /// A turning joint fails when it turns a flat panel about the panel's own normal (like a
+    /// clock hand) and the panel is neither round about the axis (its roundness residual, a
+    /// share of its diagonal, above this: true knobs, caps and lenses of real objects at most
+    /// 0.04; doors spun about a corner at least 0.13) ...
+    pub in_plane_round_max: f64,
+    /// ... nor held across both faces where it turns (at most this share of its face contact
+    /// on the less touched face: folding knife blades between the handle's scales 0.45 and
+    /// more, an even sandwich 0.5; doors and screens lying on one face of their parent at most
+    /// 0.37).
+    pub in_plane_sandwiched_share_min: f64,
+    /// A joint fails when it takes a moving part below the ground the object stands on (its
+    /// lowest point at rest in the service frame, Z up) by more than this fraction of the object
+    /// diagonal (true joints of real objects: at most 1.5 %, a stapler's pressed arm aside;
+    /// laptop screens opened backwards: at least 12 %).
+    pub below_ground_fraction_max: f64,
     /// Seed of the candidate search of corrections.
     pub seed: u64,
 }
@@ -111,6 +127,9 @@ impl Default for SweepParams {
             hinge_handle_fraction_min: 0.4,
             long_slide_walled_sides_min: 2,
             hinge_sink_mean_max: 2.0,
+            in_plane_round_max: 0.1,
+            in_plane_sandwiched_share_min: 0.5,
+            below_ground_fraction_max: 0.05,
             seed: 7,
         }
     }
@@ -163,6 +182,13 @@ pub struct SweepMetrics {
     pub crossed_part: Option<usize>,
     /// Coordinate of the first step that lost contact with the parent, if one did.
     pub lost_contact_coordinate: Option<f64>,
+    /// How far the moving samples went below the ground the object stands on (its lowest point
+    /// at rest), at the deepest step, metres (0 when they stayed above).
+    pub below_ground_m: f64,
+    /// The most `below_ground_m` allowed, metres.
+    pub below_ground_max_m: f64,
+    /// Coordinate of the first step that went deeper below the ground than allowed, if one did.
+    pub below_ground_coordinate: Option<f64>,
     /// Turning joints: distance from the axis line (where it passes the moving parts) to the
     /// parent's surface, metres; 0 for slides.
     pub hinge_to_parent_m: f64,
@@ -194,6 +220,9 @@ pub struct SweepMetrics {
     /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
     /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
     pub long_slide_walled_sides: usize,
+    /// Turning joints whose moving parts are a panel turned about its own normal: how round it
+    /// is about the axis and how it is held across its faces; `None` otherwise.
+    pub in_plane_turn: Option<InPlaneTurn>,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -337,6 +366,9 @@ pub fn sweep(
         crossing_coordinate: None,
         crossed_part: None,
         lost_contact_coordinate: None,
+        below_ground_m: 0.0,
+        below_ground_max_m: params.below_ground_fraction_max * diag,
+        below_ground_coordinate: None,
         hinge_to_parent_m: hinge.0,
         hinge_mean_to_parent_m: hinge.1,
         hinge_to_part_m,
@@ -349,6 +381,7 @@ pub fn sweep(
         short_slide_press: 1.0,
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
+        in_plane_turn: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
@@ -364,6 +397,17 @@ pub fn sweep(
     };
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
     if joint.kind != JointKind::Prismatic {
+        let touch_m = (params.rest_contact_part_fraction
+            * Aabb::from_points(&moving_points).diagonal())
+        .min(params.rest_contact_object_fraction * diag);
+        metrics.in_plane_turn = in_plane_turn(
+            scene,
+            &moving_points,
+            &still,
+            motion.axis_in_object,
+            motion.pivot_in_object_m,
+            touch_m,
+        );
         let child = &scene.samples[joint.child.0 as usize];
         let away = mean(&moving_points) - mean(parent_points);
         metrics.handle_reach_fraction = handle_reach_fraction(
@@ -434,6 +478,13 @@ pub fn sweep(
             .map(|p| to_object.transform_point3(*p))
             .collect();
         crossings.advance(scene, &moved);
+        let lowest_z_m = moved.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+        metrics.below_ground_m = metrics.below_ground_m.max(scene.ground_z_m - lowest_z_m);
+        if metrics.below_ground_coordinate.is_none()
+            && metrics.below_ground_m > metrics.below_ground_max_m
+        {
+            metrics.below_ground_coordinate = Some(q);
+        }
         if metrics.crossing_coordinate.is_none()
             && crossings.fraction() > params.crossing_fraction_max
         {

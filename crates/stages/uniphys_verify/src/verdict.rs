@@ -6,13 +6,16 @@ use std::collections::BTreeMap;
 
 use uniphys_types::JointKind;
 
+use crate::in_plane::InPlaneTurn;
 use crate::sweep::{SweepMetrics, SweepParams};
 
 impl SweepMetrics {
     /// Why the joint fails, empty when it passes:
     /// - the child does not touch its parent at rest;
-    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), or
-    ///   a hinge along a panel's edge lies at the panel's handle rather than across from it;
+    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), a
+    ///   hinge along a panel's edge lies at the panel's handle rather than across from it, or a
+    ///   panel turns in its own plane though it is neither round about the axis nor held across
+    ///   both faces (a door spun about its corner over the cabinet's front);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
@@ -32,7 +35,9 @@ impl SweepMetrics {
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
     ///   at rest passes through another part's surface (where it crosses inside the space the
     ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
-    ///   overlapped at rest, or a symmetric part turning in place, is not new).
+    ///   overlapped at rest, or a symmetric part turning in place, is not new);
+    /// - any joint: a moving part goes below the ground the object stands on by more than
+    ///   `below_ground_fraction_max` of the diagonal (a laptop's screen opened backwards).
     #[must_use]
     pub fn failures(&self, params: &SweepParams) -> Vec<String> {
         let mut reasons = Vec::new();
@@ -44,6 +49,15 @@ impl SweepMetrics {
             reasons.push(format!(
                 "the axis passes {:.4} m from the moving part (at most {:.4} m): nothing holds it",
                 self.hinge_to_part_m, self.hinge_to_part_max_m
+            ));
+        }
+        if let Some(turn) = self.spun_in_plane(params) {
+            reasons.push(format!(
+                "turns a flat panel in its own plane like a clock hand: it is not round about the axis (residual {:.3} of its diagonal, at most {:.3}) and not held across both faces ({:.0} % of its face contact on the less touched face, at least {:.0} %)",
+                turn.residual,
+                params.in_plane_round_max,
+                100.0 * turn.sandwiched_share,
+                100.0 * params.in_plane_sandwiched_share_min
             ));
         }
         if let Some(f) = self.hinge_at_handle(params) {
@@ -111,6 +125,14 @@ impl SweepMetrics {
                 100.0 * params.crossing_fraction_max
             ));
         }
+        if self.below_ground() {
+            reasons.push(format!(
+                "goes through the ground the object stands on: {:.4} m below its lowest point at rest from coordinate {:.4} (at most {:.4} m)",
+                self.below_ground_m,
+                self.below_ground_coordinate.unwrap_or(f64::NAN),
+                self.below_ground_max_m
+            ));
+        }
         reasons
     }
 
@@ -120,12 +142,12 @@ impl SweepMetrics {
     /// joint counts 1 plus ten times its share of steps, a severe overlap change 1 plus five
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
-    /// clear of the part, a hinge at its handle, a short slide across its face; a long slide in
-    /// no slot counts 2.5. 10 without contact at rest. At most 1 when the sweep passes: then the
-    /// margin to each rule (a short slide's gap growth over the allowed one, the axis's distance
-    /// from the part over the allowed one, the least handle distance over the handle's), so a
-    /// press is preferred to a pull and a hinge across the part from its handle to one beside
-    /// it.
+    /// clear of the part, a hinge at its handle, a panel spun in its own plane, a short slide
+    /// across its face; a long slide in no slot counts 2.5. 10 without contact at rest. At most
+    /// 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
+    /// allowed one, the axis's distance from the part over the allowed one, the least handle
+    /// distance over the handle's), so a press is preferred to a pull and a hinge across the
+    /// part from its handle to one beside it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -142,6 +164,9 @@ impl SweepMetrics {
         }
         if self.hinge_to_part_max_m > 0.0 {
             s = s.max(self.hinge_to_part_m / self.hinge_to_part_max_m);
+        }
+        if self.below_ground_max_m > 0.0 {
+            s = s.max(self.below_ground_m / self.below_ground_max_m);
         }
         if let Some(f) = self.handle_reach_fraction {
             s = s.max(params.hinge_handle_fraction_min / f.max(1e-9));
@@ -160,6 +185,9 @@ impl SweepMetrics {
         }
         if let Some(f) = self.hinge_at_handle(params) {
             s = s.max(3.0 - f / params.hinge_handle_fraction_min);
+        }
+        if let Some(turn) = self.spun_in_plane(params) {
+            s = s.max(2.0 + turn.residual / params.in_plane_round_max.max(1e-12));
         }
         if self.long_slide_unheld(params) {
             s = s.max(2.5);
@@ -208,6 +236,20 @@ impl SweepMetrics {
             .filter(|&f| f < params.hinge_handle_fraction_min)
     }
 
+    /// A turning joint spins a panel in its own plane that is neither round about the axis nor
+    /// held across both faces.
+    fn spun_in_plane(&self, params: &SweepParams) -> Option<InPlaneTurn> {
+        self.in_plane_turn.filter(|t| {
+            t.residual > params.in_plane_round_max
+                && t.sandwiched_share < params.in_plane_sandwiched_share_min
+        })
+    }
+
+    /// The moving parts went deeper below the ground than allowed.
+    fn below_ground(&self) -> bool {
+        self.below_ground_m > self.below_ground_max_m
+    }
+
     /// A turning joint's axis runs clear of the parts it turns.
     fn hinge_off_part(&self) -> bool {
         self.hinge_to_part_max_m > 0.0 && self.hinge_to_part_m > self.hinge_to_part_max_m
@@ -242,17 +284,17 @@ impl SweepMetrics {
             && self.hinge_to_parent_m > self.contact_reach_m
     }
 
-    /// The coordinate where the sweep first failed (passed through a part or lost contact), if
-    /// it did at a known step.
+    /// The coordinate where the sweep first failed (passed through a part, lost contact or went
+    /// below the ground), if it did at a known step.
     #[must_use]
     pub fn failure_coordinate(&self) -> Option<f64> {
         let lost = self
             .lost_contact_coordinate
             .filter(|_| self.hinge_lost_contact());
-        match (self.crossing_coordinate, lost) {
-            (Some(a), Some(b)) => Some(if a.abs() <= b.abs() { a } else { b }),
-            (a, b) => a.or(b),
-        }
+        [self.crossing_coordinate, lost, self.below_ground_coordinate]
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
     }
 
     /// The metrics by name, units in the names.
@@ -278,6 +320,7 @@ impl SweepMetrics {
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
             ("hinge_to_part_m", self.hinge_to_part_m),
+            ("below_ground_m", self.below_ground_m),
             ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
             ("short_slide_press", self.short_slide_press),
             ("short_slide_guidance", self.short_slide_guidance),
@@ -293,6 +336,12 @@ impl SweepMetrics {
                 self.handle_reach_fraction
                     .map(|f| ("handle_reach_fraction".to_owned(), f)),
             )
+            .chain(self.in_plane_turn.into_iter().flat_map(|t| {
+                [
+                    ("in_plane_residual".to_owned(), t.residual),
+                    ("in_plane_sandwiched_share".to_owned(), t.sandwiched_share),
+                ]
+            }))
             .collect()
     }
 }

@@ -1,0 +1,84 @@
+//! A flat panel turned in its own plane, like a clock hand, measured at rest.
+//!
+//! A sweep alone passes a door spun about its hinge corner in the plane of the cabinet's front:
+//! it slides flush over the front and passes through nothing. Real panels that turn about their
+//! own normal are of two kinds:
+//! - round about the axis (a knob's disc, a cap, a lens ring): turned, the part lands on itself;
+//! - held across both faces (a folding knife's blade between the handle's scales): the parent
+//!   forms a slot the panel turns in, as a drawer's carcass does for the drawer.
+//!
+//! A panel that is neither has nothing that makes it turn that way: its hinge is along an edge.
+
+use uniphys_geometry::DVec3;
+
+use crate::fit::spin_residual;
+use crate::handle::{IN_PLANE_COS_MAX, is_panel};
+use crate::part_box::PartBox;
+use crate::scene::Scene;
+
+/// Most moving samples probed for the parts over and under the panel.
+const PROBE_SAMPLES_MAX: usize = 1000;
+
+/// How a panel turned about an axis across its plane is held: its roundness about the axis and
+/// how much of it lies between still surfaces on both faces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InPlaneTurn {
+    /// The roundness residual about the joint's line (see `fit::spin_residual`), a share of
+    /// the moving parts' diagonal.
+    pub residual: f64,
+    /// Of the moving samples with a still surface close over or under them along the axis, the
+    /// share with one on both sides (1: the panel lies in a slot; 0: on one face of its
+    /// parent).
+    pub sandwiched_share: f64,
+}
+
+/// The in-plane turn of the moving group (sampled at `moving`) about the line through `pivot`
+/// along `axis`, or `None` when the group is no panel (its thinnest box extent at least
+/// [`crate::PANEL_SLAB_RATIO`] of its middle one) or the axis runs along its plane. A still
+/// part (`still`) is close along the axis when it lies within the panel's thickness plus
+/// `touch_m` of a sample, the reach of a slot's far wall from a sample on the near face.
+pub(crate) fn in_plane_turn(
+    scene: &Scene,
+    moving: &[DVec3],
+    still: &[usize],
+    axis: DVec3,
+    pivot: DVec3,
+    touch_m: f64,
+) -> Option<InPlaneTurn> {
+    let axis = axis.normalize_or_zero();
+    if moving.len() < 3 || axis == DVec3::ZERO {
+        return None;
+    }
+    let part = PartBox::of(moving);
+    let across = part.axes[part.thinnest_axis()].dot(axis).abs() > IN_PLANE_COS_MAX;
+    if !is_panel(&part) || !across {
+        return None;
+    }
+    let reach_m = part.sorted_extents()[0] + touch_m;
+    let close = |from: DVec3, direction: DVec3| {
+        still.iter().any(|&s| {
+            scene
+                .surfaces
+                .crossing(s, from, from + direction * reach_m)
+                .is_some()
+        })
+    };
+    let (mut one_side, mut both_sides) = (0usize, 0usize);
+    let stride = moving.len().div_ceil(PROBE_SAMPLES_MAX).max(1);
+    for p in moving.iter().step_by(stride) {
+        match (close(*p, axis), close(*p, -axis)) {
+            (true, true) => both_sides += 1,
+            (true, false) | (false, true) => one_side += 1,
+            (false, false) => {}
+        }
+    }
+    let probed = one_side + both_sides;
+    Some(InPlaneTurn {
+        residual: spin_residual(moving, axis, pivot),
+        sandwiched_share: if probed == 0 {
+            0.0
+        } else {
+            both_sides as f64 / probed as f64
+        },
+    })
+}
