@@ -86,13 +86,13 @@ pub struct SweepParams {
     pub hinge_off_part_fraction: f64,
     /// A turning joint fails when it turns a flat panel about the panel's own normal (like a
     /// clock hand) and the panel is neither round about the axis (its roundness residual, a
-    /// share of its diagonal, above this: true knobs, caps and lenses of real objects at most
-    /// 0.04; doors spun about a corner at least 0.13) ...
+    /// share of its diagonal, above this: true knobs, caps, wheels and switches of real objects
+    /// at most 0.04; doors, screens and legs spun about a corner 0.18 to 0.42) ...
     pub in_plane_round_max: f64,
-    /// ... nor held across both faces where it turns (at most this share of its face contact
-    /// on the less touched face: folding knife blades between the handle's scales 0.45 and
-    /// more, an even sandwich 0.5; doors and screens lying on one face of their parent at most
-    /// 0.37).
+    /// ... nor held across both faces (below this share of the samples with a still surface
+    /// close over or under them have one on both sides: the folding knife blades of real
+    /// objects between their handle's scales 1.0; doors and lids lying on one face of their
+    /// parent 0).
     pub in_plane_sandwiched_share_min: f64,
     /// A joint fails when it takes a moving part below the ground the object stands on (its
     /// lowest point at rest in the service frame, Z up) by more than this fraction of the object

@@ -97,6 +97,24 @@ fn a_folding_blade_turning_between_the_scales_of_its_handle_passes() {
     assert!(!spun_in_plane(&reasons), "{reasons:?}");
 }
 
+#[test]
+fn an_open_blade_held_only_at_its_tang_passes() {
+    // The blade (part 1) sticks out of the handle's end; only its tang, around the pin, lies
+    // between the scales. What sticks out has nothing over or under it and does not count.
+    let scene = scene(vec![
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.1, 0.02)),
+        TriMesh::cuboid(DVec3::new(0.8, 0.0, 0.021), DVec3::new(1.8, 0.1, 0.049)),
+        TriMesh::cuboid(DVec3::new(0.0, 0.0, 0.05), DVec3::new(1.0, 0.1, 0.07)),
+    ]);
+    let blade = hinge([0.0, 0.0, -1.0], [0.9, 0.05, 0.035], 0.0, PI);
+    let (metrics, reasons) = judge(&scene, &blade);
+    let turn = metrics
+        .in_plane_turn
+        .expect("a panel turned about its normal");
+    assert!(turn.sandwiched_share > 0.9, "{turn:?}");
+    assert!(!spun_in_plane(&reasons), "{reasons:?}");
+}
+
 /// A closed disc of `radius` and `thickness` about the z axis through `centre`'s line, from
 /// `centre.z` up, with 48 sides.
 fn disc(centre: DVec3, radius: f64, thickness: f64) -> TriMesh {
