@@ -28,8 +28,9 @@ const GRID_RANGE: (usize, usize) = (4, 16);
 /// window keeps its size at the panel's edges (a bar along an edge is still a minority of it).
 const NEIGHBOURHOOD_FRACTION: f64 = 0.15;
 /// A handle stands out of the face around it by at least this share of the panel's own
-/// thickness ...
-const STAND_OUT_OF_THICKNESS: f64 = 0.25;
+/// thickness (a refrigerator door's bar stands a sixth of the thick door proud: a hand needs
+/// the same clearance behind a bar on a thick door as on a thin one) ...
+const STAND_OUT_OF_THICKNESS: f64 = 0.1;
 /// ... and at least this share of the panel's diagonal (a groove or a moulding does not).
 const STAND_OUT_OF_DIAGONAL: f64 = 0.01;
 /// A handle is between these shares of the panel's surface samples.
@@ -261,6 +262,28 @@ mod tests {
             panel_handle(&bare, -DVec3::Y).is_none(),
             "a bulge alone is no handle"
         );
+    }
+
+    #[test]
+    fn the_bar_of_a_thick_refrigerator_door_is_its_handle() {
+        // A door 0.6 wide, 0.8 tall and 0.2 thick whose vertical bar near its right edge stands
+        // 0.03 proud of its outer face (-y): less than a quarter of the door's thickness.
+        let n = 60;
+        let mut points: Vec<DVec3> = (0..=n)
+            .flat_map(|i| (0..=n).map(move |j| (i as f64 / n as f64, j as f64 / n as f64)))
+            .flat_map(|(u, v)| {
+                let (x, z) = (-0.3 + 0.6 * u, 0.8 * v);
+                [DVec3::new(x, -0.2, z), DVec3::new(x, 0.0, z)]
+            })
+            .collect();
+        for i in 0..=40 {
+            for k in 0..=4 {
+                let z = 0.2 + 0.4 * f64::from(i) / 40.0;
+                points.push(DVec3::new(0.24 + 0.02 * f64::from(k) / 4.0, -0.23, z));
+            }
+        }
+        let handle = panel_handle(&points, -DVec3::Y).expect("the bar is a handle");
+        assert!((handle.x - 0.25).abs() < 0.02, "at the bar: {handle:?}");
     }
 
     #[test]

@@ -84,10 +84,11 @@ pub struct SweepParams {
     /// group's diagonal from the group's surface: a hinge pin or spin axis is held by the part it
     /// turns (true joints of real objects: at most 3.3 %).
     pub hinge_off_part_fraction: f64,
-    /// A turning joint fails when it turns a flat panel about the panel's own normal (like a
+    /// A hinge (revolute) fails when it turns a flat panel about the panel's own normal (like a
     /// clock hand) and the panel is neither round about the axis (its roundness residual, a
-    /// share of its diagonal, above this: true knobs, caps, wheels and switches of real objects
-    /// at most 0.04; doors, screens and legs spun about a corner 0.18 to 0.42) ...
+    /// share of its diagonal, above this: knobs of real objects on true hinges 0.01, and on
+    /// continuous joints, which are not judged so, at most 0.04; doors, screens and legs spun
+    /// about a corner 0.18 to 0.42) ...
     pub in_plane_round_max: f64,
     /// ... nor held across both faces (below this share of the samples with a still surface
     /// close over or under them have one on both sides: the folding knife blades of real
@@ -220,8 +221,8 @@ pub struct SweepMetrics {
     /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
     /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
     pub long_slide_walled_sides: usize,
-    /// Turning joints whose moving parts are a panel turned about its own normal: how round it
-    /// is about the axis and how it is held across its faces; `None` otherwise.
+    /// Hinges (revolute) whose moving parts are a panel turned about its own normal: how round
+    /// it is about the axis and how it is held across its faces; `None` otherwise.
     pub in_plane_turn: Option<InPlaneTurn>,
 }
 
@@ -396,7 +397,10 @@ pub fn sweep(
         _ => 0.0,
     };
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
-    if joint.kind != JointKind::Prismatic {
+    // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
+    // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
+    // exactly on the knob's own axis.
+    if joint.kind == JointKind::Revolute {
         let touch_m = (params.rest_contact_part_fraction
             * Aabb::from_points(&moving_points).diagonal())
         .min(params.rest_contact_object_fraction * diag);
@@ -408,6 +412,8 @@ pub fn sweep(
             motion.pivot_in_object_m,
             touch_m,
         );
+    }
+    if joint.kind != JointKind::Prismatic {
         let child = &scene.samples[joint.child.0 as usize];
         let away = mean(&moving_points) - mean(parent_points);
         metrics.handle_reach_fraction = handle_reach_fraction(

@@ -12,10 +12,10 @@ use crate::sweep::{SweepMetrics, SweepParams};
 impl SweepMetrics {
     /// Why the joint fails, empty when it passes:
     /// - the child does not touch its parent at rest;
-    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), a
-    ///   hinge along a panel's edge lies at the panel's handle rather than across from it, or a
-    ///   panel turns in its own plane though it is neither round about the axis nor held across
-    ///   both faces (a door spun about its corner over the cabinet's front);
+    /// - rotational joints: the axis line passes clear of the moving parts (nothing holds it), or
+    ///   a hinge along a panel's edge lies at the panel's handle rather than across from it;
+    /// - hinges (revolute): a panel turns in its own plane though it is neither round about the
+    ///   axis nor held across both faces (a door spun about its corner over the cabinet's front);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
@@ -236,8 +236,8 @@ impl SweepMetrics {
             .filter(|&f| f < params.hinge_handle_fraction_min)
     }
 
-    /// A turning joint spins a panel in its own plane that is neither round about the axis nor
-    /// held across both faces.
+    /// A hinge spins a panel in its own plane that is neither round about the axis nor held
+    /// across both faces.
     fn spun_in_plane(&self, params: &SweepParams) -> Option<InPlaneTurn> {
         self.in_plane_turn.filter(|t| {
             t.residual > params.in_plane_round_max
