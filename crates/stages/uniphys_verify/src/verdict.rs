@@ -53,7 +53,7 @@ impl SweepMetrics {
         }
         if let Some(turn) = self.spun_in_plane(params) {
             reasons.push(format!(
-                "turns a flat panel in its own plane like a clock hand: it is not round about the axis (residual {:.3} of its diagonal, at most {:.3}) and not held across both faces ({:.0} % of its face contact on the less touched face, at least {:.0} %)",
+                "turns a flat panel in its own plane like a clock hand: it is not round about the axis (residual {:.3} of its diagonal, at most {:.3}) and not held across both faces ({:.0} % of its samples with a still surface close over or under them have one on both sides, at least {:.0} %)",
                 turn.residual,
                 params.in_plane_round_max,
                 100.0 * turn.sandwiched_share,
