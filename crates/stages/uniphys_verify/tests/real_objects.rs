@@ -376,3 +376,27 @@ fn a_double_door_hinged_on_its_free_edge_is_hinged_back_on_the_cabinet_side() {
         assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
     }
 }
+
+// What a sweep alone passes: a panel spun in its own plane over its parent's face, a part
+// turned down through the ground the object stands on.
+#[test]
+fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge() {
+    // Turned a quarter, the door's axis runs along its own normal: it would slide round over
+    // the microwave's front like a clock hand.
+    let o = object("kitchen-7236");
+    let i = o.movable()[0];
+    let truth = o.joints[i].clone();
+    let verdict = o.caught(i, sideways(&truth));
+    assert!(
+        verdict.message.contains("like a clock hand"),
+        "{}",
+        verdict.message
+    );
+    assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+}
+
+#[test]
+fn a_laptop_screen_opened_backwards_through_the_ground_is_caught_and_reversed() {
+    let o = object("gensim2-10040");
+    o.assert_reversal_caught_and_undone(o.movable()[0], "through the ground");
+}
