@@ -7,6 +7,7 @@ use parry3d::query::{PointQuery, PointQueryWithLocation, Ray, RayCast};
 use uniphys_geometry::{Aabb, DVec3, KdTree, TriMesh};
 use uniphys_types::JointKind;
 
+use crate::held::rest_contact_m;
 use crate::motion::JointMotion;
 use crate::penetration::to_f32;
 use crate::scene::Scene;
@@ -224,7 +225,7 @@ impl Crossings {
             .map(|&p| (p, 0))
             .collect();
         let through_depth_m = params.rest_contact_part_fraction * bounds.diagonal();
-        let contact_m = through_depth_m.min(params.rest_contact_object_fraction * scene.diagonal_m);
+        let contact_m = rest_contact_m(params, bounds.diagonal(), scene.diagonal_m);
         let clear: Vec<usize> = (0..moving_points.len())
             .filter(|&i| {
                 near.iter()

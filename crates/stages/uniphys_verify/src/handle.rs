@@ -138,7 +138,17 @@ fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
 /// A hinge runs along a panel's edge when its axis is this far at most from the panel's plane
 /// (|cosine| to the panel's normal): a door's or a lid's, not a knob's or a blade's, which turn
 /// about their normal.
-pub(crate) const IN_PLANE_COS_MAX: f64 = 0.5;
+const IN_PLANE_COS_MAX: f64 = 0.5;
+
+/// Whether `axis` crosses the plane of a panel (of box `part`) rather than running along it:
+/// its |cosine| to the panel's normal is above [`IN_PLANE_COS_MAX`], as for the axis a knob, a
+/// blade or a panel spun like a clock hand turns about.
+pub(crate) fn axis_across_panel(part: &PartBox, axis: DVec3) -> bool {
+    part.axes[part.thinnest_axis()]
+        .dot(axis.normalize_or_zero())
+        .abs()
+        > IN_PLANE_COS_MAX
+}
 
 /// What stands out of a panel's face within this share of the moving parts' diagonal of its
 /// parent touches it: a hinge or a fitting, not a handle (a laptop's hinge cover: 0.2 %; door
@@ -166,9 +176,7 @@ pub(crate) fn handle_reach_fraction(
         return None;
     }
     let axis = axis.normalize_or_zero();
-    let part = PartBox::of(child);
-    let thin = part.thinnest_axis();
-    if part.axes[thin].dot(axis).abs() > IN_PLANE_COS_MAX {
+    if axis_across_panel(&PartBox::of(child), axis) {
         return None;
     }
     let standing = standing_out(child, away)
@@ -199,12 +207,7 @@ pub(crate) fn handled_panel_spun(
     if child.is_empty() {
         return false;
     }
-    let part = PartBox::of(child);
-    let across = part.axes[part.thinnest_axis()]
-        .dot(axis.normalize_or_zero())
-        .abs()
-        > IN_PLANE_COS_MAX;
-    across
+    axis_across_panel(&PartBox::of(child), axis)
         && (standing_out(child, away).is_some()
             || (group.len() > child.len() && standing_out(group, away).is_some()))
 }

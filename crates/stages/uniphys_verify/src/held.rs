@@ -81,6 +81,18 @@ pub(crate) fn slide_touch_m(params: &SweepParams, moving: &[DVec3]) -> f64 {
     params.rest_contact_part_fraction * Aabb::from_points(moving).diagonal()
 }
 
+/// The distance within which moving samples touch another part at rest: `rest_contact_part_fraction`
+/// of the moving group's diagonal (`group_diagonal_m`), at most `rest_contact_object_fraction`
+/// of the object's (`object_diagonal_m`), metres.
+pub(crate) fn rest_contact_m(
+    params: &SweepParams,
+    group_diagonal_m: f64,
+    object_diagonal_m: f64,
+) -> f64 {
+    (params.rest_contact_part_fraction * group_diagonal_m)
+        .min(params.rest_contact_object_fraction * object_diagonal_m)
+}
+
 /// The mean of `points` (zero for none).
 pub(crate) fn mean(points: &[DVec3]) -> DVec3 {
     points.iter().sum::<DVec3>() / points.len().max(1) as f64

@@ -12,7 +12,7 @@
 use uniphys_geometry::DVec3;
 
 use crate::fit::spin_residual;
-use crate::handle::{IN_PLANE_COS_MAX, is_panel};
+use crate::handle::{axis_across_panel, is_panel};
 use crate::part_box::PartBox;
 use crate::scene::Scene;
 
@@ -50,8 +50,7 @@ pub(crate) fn in_plane_turn(
         return None;
     }
     let part = PartBox::of(moving);
-    let across = part.axes[part.thinnest_axis()].dot(axis).abs() > IN_PLANE_COS_MAX;
-    if !is_panel(&part) || !across {
+    if !is_panel(&part) || !axis_across_panel(&part, axis) {
         return None;
     }
     let reach_m = part.sorted_extents()[0] + touch_m;

@@ -9,7 +9,7 @@ use crate::crossing::Crossings;
 use crate::handle::handle_reach_fraction;
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
-    slide_against_contact, slide_touch_m,
+    rest_contact_m, slide_against_contact, slide_touch_m,
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
@@ -337,12 +337,13 @@ pub fn sweep(
 
     let tolerance = params.penetration_tolerance_fraction * diag;
     let hinge = hinge_to_parent_m(scene, &motion, &moving_points, parent);
+    let moving_diagonal_m = Aabb::from_points(&moving_points).diagonal();
     let (hinge_to_part_m, hinge_to_part_max_m) = if motion.kind == JointKind::Prismatic {
         (0.0, 0.0)
     } else {
         (
             line_to_points_m(&motion, &moving_points),
-            params.hinge_off_part_fraction * Aabb::from_points(&moving_points).diagonal(),
+            params.hinge_off_part_fraction * moving_diagonal_m,
         )
     };
     let mut metrics = SweepMetrics {
@@ -401,16 +402,13 @@ pub fn sweep(
     // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
     // exactly on the knob's own axis.
     if joint.kind == JointKind::Revolute {
-        let touch_m = (params.rest_contact_part_fraction
-            * Aabb::from_points(&moving_points).diagonal())
-        .min(params.rest_contact_object_fraction * diag);
         metrics.in_plane_turn = in_plane_turn(
             scene,
             &moving_points,
             &still,
             motion.axis_in_object,
             motion.pivot_in_object_m,
-            touch_m,
+            rest_contact_m(params, moving_diagonal_m, diag),
         );
     }
     if joint.kind != JointKind::Prismatic {

@@ -78,17 +78,25 @@ fn the_same_door_on_its_edge_hinge_is_no_in_plane_turn() {
     assert!(reasons.is_empty(), "{reasons:?}");
 }
 
+/// A folding knife: a handle 1 long (x) of two scales (part 0, the lower; part 2, the upper)
+/// holding the blade (part 1, from `blade_x.0` to `blade_x.1` along the handle) in a gap 0.002
+/// wider than the blade.
+fn knife(blade_x: (f64, f64)) -> Scene {
+    scene(vec![
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.1, 0.02)),
+        TriMesh::cuboid(
+            DVec3::new(blade_x.0, 0.0, 0.021),
+            DVec3::new(blade_x.1, 0.1, 0.049),
+        ),
+        TriMesh::cuboid(DVec3::new(0.0, 0.0, 0.05), DVec3::new(1.0, 0.1, 0.07)),
+    ])
+}
+
 #[test]
 fn a_folding_blade_turning_between_the_scales_of_its_handle_passes() {
-    // The handle (part 0, the lower scale; part 2, the upper one) holds the blade (part 1) in a
-    // gap 0.002 wider than the blade; the blade turns out about the pin near its end.
-    let scene = scene(vec![
-        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.1, 0.02)),
-        TriMesh::cuboid(DVec3::new(0.1, 0.0, 0.021), DVec3::new(0.9, 0.1, 0.049)),
-        TriMesh::cuboid(DVec3::new(0.0, 0.0, 0.05), DVec3::new(1.0, 0.1, 0.07)),
-    ]);
+    // The blade lies folded in the handle and turns out about the pin near its end.
     let blade = hinge([0.0, 0.0, 1.0], [0.15, 0.05, 0.035], 0.0, PI);
-    let (metrics, reasons) = judge(&scene, &blade);
+    let (metrics, reasons) = judge(&knife((0.1, 0.9)), &blade);
     let turn = metrics
         .in_plane_turn
         .expect("a panel turned about its normal");
@@ -99,15 +107,10 @@ fn a_folding_blade_turning_between_the_scales_of_its_handle_passes() {
 
 #[test]
 fn an_open_blade_held_only_at_its_tang_passes() {
-    // The blade (part 1) sticks out of the handle's end; only its tang, around the pin, lies
-    // between the scales. What sticks out has nothing over or under it and does not count.
-    let scene = scene(vec![
-        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.1, 0.02)),
-        TriMesh::cuboid(DVec3::new(0.8, 0.0, 0.021), DVec3::new(1.8, 0.1, 0.049)),
-        TriMesh::cuboid(DVec3::new(0.0, 0.0, 0.05), DVec3::new(1.0, 0.1, 0.07)),
-    ]);
+    // The blade sticks out of the handle's end; only its tang, around the pin, lies between
+    // the scales. What sticks out has nothing over or under it and does not count.
     let blade = hinge([0.0, 0.0, -1.0], [0.9, 0.05, 0.035], 0.0, PI);
-    let (metrics, reasons) = judge(&scene, &blade);
+    let (metrics, reasons) = judge(&knife((0.8, 1.8)), &blade);
     let turn = metrics
         .in_plane_turn
         .expect("a panel turned about its normal");

@@ -68,6 +68,15 @@ impl Object {
         assert_eq!(fixed.limits, truth.limits);
     }
 
+    /// Joint `i` turned a quarter ([`sideways`]) fails for `reason` and is corrected back onto
+    /// its true line ([`assert_restored_to_true_line`]).
+    fn assert_sideways_caught_and_restored(&self, i: usize, reason: &str) {
+        let truth = &self.joints[i];
+        let verdict = self.caught(i, sideways(truth));
+        assert!(verdict.message.contains(reason), "{}", verdict.message);
+        assert_restored_to_true_line(&verdict, truth, part_diagonal(self, truth.child.0));
+    }
+
     /// `truth` with its hinge line moved across its part's centre, to the opposite edge.
     fn hinged_on_opposite_edge(&self, truth: &Joint) -> Joint {
         let axis = DVec3::from_array(truth.axis_in_object).normalize();
@@ -338,14 +347,7 @@ fn stove_knobs_turned_about_a_line_across_them_spin_about_their_own_axis_again()
         .collect();
     assert_eq!(knobs.len(), 2, "the stove has knobs");
     for i in knobs {
-        let truth = o.joints[i].clone();
-        let verdict = o.caught(i, sideways(&truth));
-        assert!(
-            verdict.message.contains("round about"),
-            "{}",
-            verdict.message
-        );
-        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+        o.assert_sideways_caught_and_restored(i, "round about");
     }
 }
 
@@ -384,15 +386,7 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
     // Turned a quarter, the door's axis runs along its own normal: it would slide round over
     // the microwave's front like a clock hand.
     let o = object("kitchen-7236");
-    let i = o.movable()[0];
-    let truth = o.joints[i].clone();
-    let verdict = o.caught(i, sideways(&truth));
-    assert!(
-        verdict.message.contains("like a clock hand"),
-        "{}",
-        verdict.message
-    );
-    assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+    o.assert_sideways_caught_and_restored(o.movable()[0], "like a clock hand");
 }
 
 #[test]
