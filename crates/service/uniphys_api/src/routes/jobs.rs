@@ -152,7 +152,8 @@ pub(crate) async fn cancel(
     }))
 }
 
-/// Retry a dead-lettered job: its dead stages become claimable again with a fresh attempt budget.
+/// Retry a dead-lettered or cancelled job: its dead and cancelled stages become claimable again
+/// with a fresh attempt budget (a stage still waiting on another waits again).
 #[utoipa::path(
     post,
     path = "/v1/jobs/{job_id}/retry",
@@ -163,7 +164,7 @@ pub(crate) async fn cancel(
         (status = 400, description = "Invalid job id", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 404, description = "No such job for this tenant", body = ErrorBody),
-        (status = 409, description = "The job is not dead-lettered", body = ErrorBody),
+        (status = 409, description = "The job is running or succeeded", body = ErrorBody),
         (status = 503, description = "Database unavailable; see Retry-After", body = ErrorBody),
     ),
     security(("api_key" = []))

@@ -9,7 +9,7 @@ use axum::extract::State;
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
-use uniphys_queue::{NewAsset, TenantId};
+use uniphys_queue::{JobState, NewAsset, TenantId};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::ApiState;
@@ -56,12 +56,20 @@ pub struct SubmitResponse {
     pub source_key: String,
     /// Size of the content.
     pub size_bytes: u64,
+    /// The job's state: `running` for a new job; on a re-submit, that of the existing job
+    /// (`running`, `succeeded`, `dead` or `cancelled`).
+    pub job_state: String,
+    /// On a re-submit whose job is dead or cancelled: the path that runs it again (`POST`, see
+    /// `/v1/jobs/{job_id}/retry`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub retry: Option<String>,
 }
 
 /// Submit an asset by uploading its file.
 ///
 /// The body is the file's bytes, streamed to disk while hashed. Submitting the same content again
-/// answers 200 with the same ids.
+/// answers 200 with the same ids and the job's state; a dead or cancelled job is not run again
+/// by a re-submit, the answer names its retry path instead.
 #[utoipa::path(
     post,
     path = "/v1/assets",
@@ -190,6 +198,13 @@ pub(crate) async fn store_and_submit(
             source_key = known;
         }
     }
+    let job_state = if submission.job_created {
+        JobState::Running
+    } else {
+        state.store.get_job(tenant, submission.job_id).await?.state
+    };
+    let retry = matches!(job_state, JobState::Dead | JobState::Cancelled)
+        .then(|| format!("/v1/jobs/{}/retry", submission.job_id));
     let answer = SubmitResponse {
         asset_id: submission.asset_id.to_string(),
         job_id: submission.job_id.to_string(),
@@ -197,6 +212,8 @@ pub(crate) async fn store_and_submit(
         content_digest: asset.content_digest,
         source_key,
         size_bytes: asset.size_bytes,
+        job_state: job_state.to_string(),
+        retry,
     };
     Ok((submission.asset_created, answer))
 }

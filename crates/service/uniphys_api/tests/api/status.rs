@@ -166,7 +166,7 @@ pub async fn cancelling_a_finished_job_is_409(backend: Backend) {
     app.finish().await;
 }
 
-pub async fn only_a_dead_lettered_job_can_be_retried(backend: Backend) {
+pub async fn a_dead_lettered_job_is_retried_and_a_running_one_is_409(backend: Backend) {
     let Some(app) = TestApp::open(backend, |c| c).await else {
         return;
     };
@@ -208,6 +208,49 @@ pub async fn only_a_dead_lettered_job_can_be_retried(backend: Backend) {
         Some(&vec!["ingest".to_owned()]),
         "retry rings the doorbell"
     );
+    app.finish().await;
+}
+
+pub async fn a_cancelled_job_is_offered_on_re_upload_and_retried(backend: Backend) {
+    let Some(app) = TestApp::open(backend, |c| c).await else {
+        return;
+    };
+    let (asset, job) = app.submitted("cabinet.glb", b"cabinet").await;
+    let fresh = app.upload("cabinet.glb", b"cabinet").await.json();
+    assert_eq!(fresh["job_state"], "running");
+    assert!(fresh.get("retry").is_none(), "{fresh}");
+    let cancel = app.post(&format!("/v1/jobs/{job}/cancel")).await;
+    assert_eq!(cancel.status, StatusCode::OK);
+
+    // The same bytes again, under another name: the cancelled job, and how to run it again.
+    let again = app.upload("copy.glb", b"cabinet").await;
+    assert_eq!(again.status, StatusCode::OK);
+    let again = again.json();
+    assert_eq!(again["asset_id"], asset.as_str());
+    assert_eq!(again["job_id"], job.as_str());
+    assert_eq!(again["job_state"], "cancelled");
+    let retry_path = again["retry"].as_str().expect("a retry path").to_owned();
+    assert_eq!(retry_path, format!("/v1/jobs/{job}/retry"));
+
+    let retry = app.post(&retry_path).await;
+    assert_eq!(retry.status, StatusCode::OK);
+    // The first stage runs again; the second waits for it as before.
+    assert_eq!(retry.json()["requeued"], serde_json::json!(["ingest"]));
+    let view = app.get(&format!("/v1/jobs/{job}")).await.json();
+    assert_eq!(view["state"], "running");
+    let states: Vec<&str> = view["stages"]
+        .as_array()
+        .expect("stages")
+        .iter()
+        .filter_map(|s| s["state"].as_str())
+        .collect();
+    assert_eq!(states, ["ready", "blocked"]);
+    let run = &app
+        .store
+        .claim(&worker(), &["ingest"], LEASE, 1)
+        .await
+        .expect("claim")[0];
+    assert_eq!(run.job_id.to_string(), job);
     app.finish().await;
 }
 

@@ -1,4 +1,5 @@
-//! Operator controls: cancel a job, retry a dead-lettered job, pause and resume a stage.
+//! Operator controls: cancel a job, retry a dead-lettered or cancelled job, pause and resume a
+//! stage.
 
 use serde_json::json;
 
@@ -26,12 +27,15 @@ static CANCEL_JOB: Sql =
     Sql::new("UPDATE jobs SET state = 'cancelled', finished_at_ms = {now} WHERE id = $1");
 
 // The attempt counter is never reset (it is the fencing token): a retry grants a fresh budget.
-static REQUEUE_DEAD: Sql = Sql::new(
+// Dead runs and runs stopped by a cancel run again; a cancelled run still waiting on a
+// dependency waits again (its count of unfinished dependencies was kept).
+static REQUEUE: Sql = Sql::new(
     "UPDATE stage_runs
-     SET state = 'ready', run_after_ms = {now}, finished_at_ms = NULL,
+     SET state = CASE WHEN blocking_deps > 0 THEN 'blocked' ELSE 'ready' END,
+         run_after_ms = {now}, finished_at_ms = NULL, lease_expires_at_ms = NULL,
          max_attempts = attempt + attempts_per_retry
-     WHERE job_id = $1 AND state = 'dead'
-     RETURNING id, stage_name",
+     WHERE job_id = $1 AND state IN ('dead', 'cancelled')
+     RETURNING id, stage_name, state",
 );
 
 static REVIVE_JOB: Sql =
@@ -72,13 +76,15 @@ impl QueueStore {
         Ok(cancelled)
     }
 
-    /// Retries a dead job of `tenant`: its dead-lettered runs become claimable now with a fresh
-    /// attempt budget (their error history is kept) and the job runs again. Returns the requeued
-    /// runs. Only a dead job can be retried (`InvalidTransition`).
+    /// Retries a dead or cancelled job of `tenant`: its dead-lettered runs, and the runs a cancel
+    /// stopped, become claimable now with a fresh attempt budget (their error history is kept;
+    /// a run still waiting on an unfinished dependency waits again) and the job runs again.
+    /// Returns the runs made claimable. A running or succeeded job cannot be retried
+    /// (`InvalidTransition`).
     pub async fn retry_job(&self, tenant: TenantId, job: JobId) -> QueueResult<Vec<RunRef>> {
         let mut tx = self.db.write_tx().await?;
         let state = fencing::lock_tenant_job(&mut tx, tenant, job).await?;
-        if state != JobState::Dead {
+        if !matches!(state, JobState::Dead | JobState::Cancelled) {
             return Err(QueueError::InvalidTransition {
                 action: "retry",
                 id: job.to_string(),
@@ -86,7 +92,10 @@ impl QueueStore {
             });
         }
         let mut requeued = Vec::new();
-        for row in tx.fetch_all(&REQUEUE_DEAD, args![job.0]).await? {
+        for row in tx.fetch_all(&REQUEUE, args![job.0]).await? {
+            if row.text("state")? != "ready" {
+                continue;
+            }
             requeued.push(RunRef {
                 run_id: StageRunId(row.i64("id")?),
                 stage_name: row.text("stage_name")?,
@@ -94,8 +103,10 @@ impl QueueStore {
         }
         requeued.sort();
         tx.execute(&REVIVE_JOB, args![job.0]).await?;
-        let detail =
-            json!({ "requeued": requeued.iter().map(|r| &r.stage_name).collect::<Vec<_>>() });
+        let detail = json!({
+            "from": state.to_string(),
+            "requeued": requeued.iter().map(|r| &r.stage_name).collect::<Vec<_>>(),
+        });
         events::record(
             &mut tx,
             &EventSubject::job(job),

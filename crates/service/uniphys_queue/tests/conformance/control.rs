@@ -76,6 +76,71 @@ pub async fn cancel_stops_unfinished_runs_and_fences_the_worker(backend: Backend
     t.finish().await;
 }
 
+pub async fn a_cancelled_job_is_retried_and_its_old_worker_stays_fenced(backend: Backend) {
+    let Some(t) = harness::open(backend, NO_BACKOFF).await else {
+        return;
+    };
+    let acme = t.tenant("acme").await;
+    let spec = JobSpec::chain(&["ingest", "ground", "export"]);
+    let sub = t.submit(acme, "a", &spec).await;
+    let first = t.claim_one(&worker("a"), "ingest", LONG_LEASE).await;
+    t.store
+        .complete(&first.lease, &json!({}), &StageCost::default())
+        .await
+        .expect("complete ingest");
+    let stale = t.claim_one(&worker("a"), "ground", LONG_LEASE).await;
+    assert_eq!(
+        t.store.cancel_job(acme, sub.job_id).await.expect("cancel"),
+        2
+    );
+
+    let requeued = t.store.retry_job(acme, sub.job_id).await.expect("retry");
+    assert_eq!(
+        requeued
+            .iter()
+            .map(|r| r.stage_name.as_str())
+            .collect::<Vec<_>>(),
+        ["ground"],
+        "the stage a cancel stopped runs again; the one after it waits"
+    );
+    let job = t.store.get_job(acme, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Running);
+    assert_eq!(
+        t.stage_state(acme, sub.job_id, "ingest").await,
+        StageState::Succeeded
+    );
+    assert_eq!(
+        t.stage_state(acme, sub.job_id, "ground").await,
+        StageState::Ready
+    );
+    assert_eq!(
+        t.stage_state(acme, sub.job_id, "export").await,
+        StageState::Blocked
+    );
+
+    // The worker that held the run before the cancel cannot complete it.
+    let err = t
+        .store
+        .complete(&stale.lease, &json!({}), &StageCost::default())
+        .await
+        .expect_err("stale complete");
+    assert_eq!(err.kind(), QueueErrorKind::Fenced, "{err}");
+    let fresh = t.claim_one(&worker("b"), "ground", LONG_LEASE).await;
+    assert!(fresh.lease.attempt > stale.lease.attempt);
+    t.store
+        .complete(&fresh.lease, &json!({}), &StageCost::default())
+        .await
+        .expect("complete ground");
+    let last = t.claim_one(&worker("b"), "export", LONG_LEASE).await;
+    t.store
+        .complete(&last.lease, &json!({}), &StageCost::default())
+        .await
+        .expect("complete export");
+    let job = t.store.get_job(acme, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Succeeded);
+    t.finish().await;
+}
+
 pub async fn pause_holds_claims_until_resume(backend: Backend) {
     let Some(t) = harness::open(backend, NO_BACKOFF).await else {
         return;

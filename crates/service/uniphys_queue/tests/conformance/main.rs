@@ -62,6 +62,7 @@ conformance!(
     dag::concurrent_last_completions_finish_the_job_once,
     dag::fan_in_waits_for_every_parent_under_concurrency,
     control::cancel_stops_unfinished_runs_and_fences_the_worker,
+    control::a_cancelled_job_is_retried_and_its_old_worker_stays_fenced,
     control::pause_holds_claims_until_resume,
     stats::stats_count_each_state_and_the_throughput,
     listing::listing_filters_and_pages_a_tenants_jobs,
