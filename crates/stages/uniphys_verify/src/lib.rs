@@ -12,8 +12,9 @@
 //!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
-//!   edge lines and the cross-sections of its edges ([`articulation_candidates`],
-//!   [`edge_pivots`], [`band_pivots`]), also used by grounders to enumerate hypotheses, and the
+//!   edge lines, the cross-sections of its edges and the centres of its rounded ends
+//!   ([`articulation_candidates`], [`edge_pivots`], [`band_pivots`], [`rounded_end_pivots`]),
+//!   also used by grounders to enumerate hypotheses, and the
 //!   line a spinning part is round about; corrections compared by how well they fit the part
 //!   (`fit`);
 //! - the whole articulation at once ([`verify_articulation`]).
@@ -37,6 +38,7 @@ mod part_box;
 mod patch;
 mod penetration;
 mod plausibility;
+mod rounded_ends;
 mod scene;
 mod slot;
 mod sweep;
@@ -58,5 +60,6 @@ pub use motion::{JointMotion, sweep_coordinates};
 pub use part_box::PartBox;
 pub use patch::{PatchParams, grow_patch};
 pub use plausibility::plausibility_checks;
+pub use rounded_ends::rounded_end_pivots;
 pub use scene::{Scene, moving_group};
 pub use sweep::{SweepMetrics, SweepParams, sweep};

@@ -10,7 +10,7 @@ use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
     JointVerdict, PatchParams, Scene, SweepParams, articulation_candidates, band_pivots,
-    edge_pivots, moving_group, parallel_map, verify_joint,
+    edge_pivots, moving_group, parallel_map, rounded_end_pivots, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
@@ -198,6 +198,7 @@ fn nearest_pivot(
     pivots.extend(edge_pivots(child_points, &parent_points, part_axes));
     let axis = DVec3::from_array(joint.axis_in_object);
     pivots.extend(band_pivots(&moving_points, axis, part_axes));
+    pivots.extend(rounded_end_pivots(&moving_points, axis, part_axes));
     let on = DVec3::from_array(joint.pivot_in_object_m);
     pivots
         .iter()
