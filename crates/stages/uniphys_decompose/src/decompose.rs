@@ -10,7 +10,7 @@ use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
 use crate::apriori::{AprioriOptions, merge_parts};
 use crate::candidates::{CandidateGenerator, CandidateRequest};
 use crate::hidden::{HiddenOptions, merge_hidden_parts};
-use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepTiming};
+use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepLabels, StepTiming};
 use crate::perception::{PerceptionOptions, perceive};
 use crate::pieces::{PieceOptions, respect_pieces};
 use crate::prior::k_range;
@@ -56,6 +56,8 @@ pub struct DecomposeOptions {
     pub hidden: HiddenOptions,
     /// Seed for anything random (default 0).
     pub seed: u64,
+    /// Keep every step's face labels in [`Decomposition::steps`] (benchmarks; default false).
+    pub keep_step_labels: bool,
 }
 
 impl Default for DecomposeOptions {
@@ -74,6 +76,7 @@ impl Default for DecomposeOptions {
             pieces: PieceOptions::default(),
             hidden: HiddenOptions::default(),
             seed: 0,
+            keep_step_labels: false,
         }
     }
 }
@@ -241,10 +244,21 @@ pub fn decompose(
     };
     let chosen = &candidates[selection.index];
     lap("select", &mut timings);
+    let mut steps = Vec::new();
+    let mut keep = |step: &str, face_part: &[u32]| {
+        if options.keep_step_labels {
+            steps.push(StepLabels {
+                step: step.to_owned(),
+                face_part: face_part.to_vec(),
+            });
+        }
+    };
+    keep("select", &chosen.face_labels);
 
     let (refined, refined_parts) =
         split_disconnected(mesh, &chosen.face_labels, options.refine_eps_rel, None);
     lap("refine", &mut timings);
+    keep("refine", &refined);
 
     let merged = merge_parts(
         &refined,
@@ -254,6 +268,7 @@ pub fn decompose(
         &options.apriori,
     );
     lap("merge", &mut timings);
+    keep("merge", &merged.face_part);
 
     let (again, refined_again_parts) = split_disconnected(
         mesh,
@@ -262,10 +277,12 @@ pub fn decompose(
         Some(options.refine_again_keep_whole_above),
     );
     lap("refine_again", &mut timings);
+    keep("refine_again", &again);
 
     let (small_merged, _, small_parts_merged) =
         merge_small_parts(mesh, &again, &materials, &options.small_parts);
     lap("small_parts", &mut timings);
+    keep("small_parts", &small_merged);
 
     let piece_options = PieceOptions {
         make_whole: options.pieces.make_whole && !generator.learned(),
@@ -273,10 +290,12 @@ pub fn decompose(
     };
     let (whole, whole_parts, pieces) = respect_pieces(mesh, &small_merged, &piece_options);
     lap("pieces", &mut timings);
+    keep("pieces", &whole);
 
     let (face_part, part_count, hidden_parts_merged) =
         merge_hidden_parts(mesh, &whole, &options.hidden);
     lap("hidden", &mut timings);
+    keep("hidden", &face_part);
     let one_part_reason = (part_count == 1).then(|| {
         if whole_parts > 1 {
             format!(
@@ -332,6 +351,7 @@ pub fn decompose(
         face_part,
         part_count,
         summary,
+        steps,
     })
 }
 

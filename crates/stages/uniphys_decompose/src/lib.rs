@@ -50,7 +50,7 @@ pub use decompose::{DecomposeOptions, decompose, decompose_asset};
 pub use error::{DecomposeError, DecomposeResult};
 pub use hidden::{HiddenOptions, merge_hidden_parts};
 pub use lift::FaceSet;
-pub use output::{DecomposeSummary, Decomposition};
+pub use output::{DecomposeSummary, Decomposition, StepLabels};
 pub use perception::{Perception, PerceptionOptions, perceive};
 pub use pieces::{PieceOptions, PieceReport, mesh_pieces, respect_pieces};
 pub use policy::{DecomposeMode, FRAGMENTED_PART_COUNT, needs_decomposition};

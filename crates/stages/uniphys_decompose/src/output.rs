@@ -112,6 +112,17 @@ pub struct Decomposition {
     pub part_count: usize,
     /// What each step did.
     pub summary: DecomposeSummary,
+    /// Every step's face labels, when asked for ([`crate::DecomposeOptions::keep_step_labels`]).
+    pub steps: Vec<StepLabels>,
+}
+
+/// The face labels after one step of the stage (not renumbered).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepLabels {
+    /// Step name, as in [`StepTiming::step`].
+    pub step: String,
+    /// Label of every face.
+    pub face_part: Vec<u32>,
 }
 
 impl Decomposition {

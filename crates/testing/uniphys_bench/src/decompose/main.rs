@@ -24,6 +24,7 @@ mod categories;
 mod object_dirs;
 mod partnet;
 mod real;
+mod steps;
 
 /// Decompose multi-part assets merged into one mesh and score the parts found.
 #[derive(Debug, Parser)]
@@ -79,7 +80,10 @@ fn bench(args: &Args) -> anyhow::Result<()> {
     if let Some(root) = &args.partnet {
         let wanted = |name: &str| args.only.as_deref().is_none_or(|o| name.contains(o));
         let (cases, failed) = partnet::real_cases(root, &wanted)?;
-        let options = options_for(args);
+        let options = DecomposeOptions {
+            keep_step_labels: true,
+            ..options_for(args)
+        };
         real::bench_real(&cases, &|case| {
             Ok(decompose_asset(
                 &case.asset,

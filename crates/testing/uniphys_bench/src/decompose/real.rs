@@ -12,6 +12,7 @@ use uniphys_geometry::{TriMesh, connected_components};
 use uniphys_types::JointKind;
 
 use crate::partnet::RealCase;
+use crate::steps::{StepScores, print_steps, score_steps};
 
 /// A true part counts as recovered when its matched part has at least this IoU.
 const RECOVERED_IOU: f64 = 0.5;
@@ -54,6 +55,7 @@ pub(crate) fn bench_real(
     );
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut rows = Vec::new();
+    let mut steps: Vec<StepScores> = Vec::new();
     for case in cases {
         let clock = Instant::now();
         let decomposition = match decompose(case) {
@@ -68,6 +70,7 @@ pub(crate) fn bench_real(
         if let Some(reason) = &decomposition.summary.one_part_reason {
             row.diagnosis = format!("one part: {reason}; {}", row.diagnosis);
         }
+        steps.push(score_steps(case, &decomposition.steps));
         let movable = movable_recovered(case, &row.stage.matching);
         println!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {}/{} | {:.2} |",
@@ -90,6 +93,7 @@ pub(crate) fn bench_real(
         return Ok(());
     }
     summary(&rows);
+    print_steps(&steps);
     per_category(&rows);
     worst(&rows);
     Ok(())
