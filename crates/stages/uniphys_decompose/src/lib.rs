@@ -36,6 +36,7 @@ pub mod policy;
 pub mod prior;
 pub mod providers;
 pub mod refine;
+pub mod round;
 pub mod score;
 pub mod segment;
 pub mod select;

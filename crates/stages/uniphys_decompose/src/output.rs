@@ -221,6 +221,7 @@ mod tests {
                 final_parts: 2,
                 ..DecomposeSummary::default()
             },
+            steps: Vec::new(),
         };
         let files = decomposition.files(&mesh).unwrap();
         let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();

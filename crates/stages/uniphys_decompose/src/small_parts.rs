@@ -7,13 +7,15 @@
 //! triangle distances); without contact, the neighbour with the smallest box gap if it is near.
 //! A somewhat larger part (below 2 % of the area) also joins a neighbour of the same material it
 //! is clearly attached to when that neighbour is several times larger: handles and knobs go with
-//! their drawer or lid (a steel handle on a wooden drawer stays a part of its own)
+//! their drawer or lid (a steel handle on a wooden drawer stays a part of its own), unless it
+//! is round about an axis (a wheel, a dial: [`crate::round`]) and so can spin against it
 //! (the reference leaves that to PartField's features; a small separately moving button is the
 //! price).
 
 use uniphys_geometry::{Aabb, DVec3, TriMesh};
 
 use crate::candidates::{UnionFind, relabel_by_first_face};
+use crate::round::is_round;
 
 /// Tuning of [`merge_small_parts`]. Lengths are fractions of the bounds diagonal, areas of the
 /// total surface area.
@@ -156,7 +158,8 @@ pub fn merge_small_parts(
         };
         let attached = share >= options.attached_contact_min
             && area[q] >= options.attached_size_ratio * area[p]
-            && material[p] == material[q];
+            && material[p] == material[q]
+            && !is_round(mesh, &faces_of[p]);
         if is_small(p) || attached {
             groups.union(u32::try_from(p).unwrap_or(0), u32::try_from(q).unwrap_or(0));
             merged += 1;
@@ -168,7 +171,7 @@ pub fn merge_small_parts(
 }
 
 /// Up to [`SAMPLES`] points of the faces: vertices and face centres, evenly thinned.
-fn samples(mesh: &TriMesh, faces: &[usize]) -> Vec<DVec3> {
+pub(crate) fn samples(mesh: &TriMesh, faces: &[usize]) -> Vec<DVec3> {
     let mut points: Vec<DVec3> = Vec::with_capacity(faces.len() * 4);
     for &f in faces {
         let c = mesh.corners(f);
@@ -218,7 +221,7 @@ fn box_gap(a: &Aabb, b: &Aabb) -> f64 {
 }
 
 /// The point of triangle `t` closest to `p` (Voronoi regions of the vertices, edges and face).
-fn closest_on_triangle(p: DVec3, t: &[DVec3; 3]) -> DVec3 {
+pub(crate) fn closest_on_triangle(p: DVec3, t: &[DVec3; 3]) -> DVec3 {
     let [a, b, c] = *t;
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));

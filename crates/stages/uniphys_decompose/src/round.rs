@@ -1,0 +1,64 @@
+//! Whether a part is round about an axis (a wheel, a knob, a dial, a cap): it maps onto itself
+//! when turned about a line through its centre along one of its principal directions. Such a
+//! part can spin against whatever it is attached to, so it is worth keeping as a part.
+
+use uniphys_geometry::{DQuat, DVec3, TriMesh, principal_axes};
+
+use crate::small_parts::{closest_on_triangle, samples};
+
+/// Turns (radians) the part is checked at: none a multiple of another, so a part with a few-fold
+/// symmetry (a square, a hexagonal nut) is not taken for round.
+const TURNS_RAD: [f64; 3] = [0.9, 2.0, 2.9];
+/// A turned sample lies on the part when it is within this share of the part's diagonal of
+/// one of its triangles ...
+const ON_SURFACE_FRACTION: f64 = 0.03;
+/// ... and the part is round when at least this share of the turned samples does at every turn.
+const KEPT_SHARE_MIN: f64 = 0.9;
+
+/// Whether the part made of `faces` of `mesh` is round about one of its principal directions
+/// through its samples' mean.
+#[must_use]
+pub fn is_round(mesh: &TriMesh, faces: &[usize]) -> bool {
+    let points = samples(mesh, faces);
+    if points.len() < 8 {
+        return false;
+    }
+    let triangles: Vec<[DVec3; 3]> = faces.iter().map(|&f| mesh.corners(f)).collect();
+    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
+    let diagonal = uniphys_geometry::Aabb::from_points(&points).diagonal();
+    let tolerance2 = (ON_SURFACE_FRACTION * diagonal).powi(2);
+    principal_axes(&points).into_iter().any(|axis| {
+        TURNS_RAD.iter().all(|&angle| {
+            let turn = DQuat::from_axis_angle(axis, angle);
+            let kept = points
+                .iter()
+                .filter(|&&p| {
+                    let q = centre + turn * (p - centre);
+                    triangles
+                        .iter()
+                        .any(|t| closest_on_triangle(q, t).distance_squared(q) <= tolerance2)
+                })
+                .count();
+            kept as f64 >= KEPT_SHARE_MIN * points.len() as f64
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn faces(mesh: &TriMesh) -> Vec<usize> {
+        (0..mesh.triangle_count()).collect()
+    }
+
+    #[test]
+    fn a_cylinder_is_round_and_a_bar_or_a_square_block_is_not() {
+        let wheel = uniphys_examples::shapes::cylinder(0.3, 0.0, 0.1, 48);
+        assert!(is_round(&wheel, &faces(&wheel)));
+        let bar = TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.4, 0.05, 0.05));
+        assert!(!is_round(&bar, &faces(&bar)));
+        let block = TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.2, 0.2, 0.05));
+        assert!(!is_round(&block, &faces(&block)));
+    }
+}
