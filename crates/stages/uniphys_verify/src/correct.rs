@@ -1,7 +1,8 @@
 //! Feedback correction of a joint that failed its sweep, in tiers of growing change: the range
 //! reversed or cut where the sweep first failed; for a part that spins in place, the line it is
 //! round about; another pivot on the same axis (contact clusters, the part's edge lines, its
-//! edges' cross-sections and the centres of its rounded ends), keeping the direction, then reversing it; another axis (for a slide
+//! edges' cross-sections, the centres of its rounded ends and, for a panel its parent holds on
+//! both faces, of the held region), keeping the direction, then reversing it; another axis (for a slide
 //! first the normal of the face it touches and the axis of the walls around it); the other kind
 //! of motion (slide for turn, turn for slide).
 //!
@@ -20,6 +21,7 @@ use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
 use crate::fit::{may_spin, misfit, round_axis};
 use crate::held::{contact_normal_tensor, slide_touch_m};
+use crate::in_plane::held_pivots;
 use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, SweepParams, sweep};
@@ -242,6 +244,7 @@ fn tiers(
     if joint.kind != JointKind::Prismatic {
         pivots.extend(band_pivots(&moving_points, axis, part_axes));
         pivots.extend(rounded_end_pivots(&moving_points, axis, part_axes));
+        pivots.extend(held_pivots(scene, moving, axis, params));
     }
 
     // 3. A part that spins in place: the line it is round about, both ways.

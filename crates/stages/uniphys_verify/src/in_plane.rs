@@ -8,16 +8,23 @@
 //!   forms a slot the panel turns in, as a drawer's carcass does for the drawer.
 //!
 //! A panel that is neither has nothing that makes it turn that way: its hinge is along an edge.
+//! A held panel turns on a pin through the region its parent holds: that region gives pivot
+//! candidates ([`held_pivots`]).
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, box_axes};
 
 use crate::fit::spin_residual;
 use crate::handle::{axis_across_panel, is_panel};
+use crate::held::{mean, rest_contact_m};
 use crate::part_box::PartBox;
+use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
+use crate::sweep::SweepParams;
 
 /// Most moving samples probed for the parts over and under the panel.
 const PROBE_SAMPLES_MAX: usize = 1000;
+/// A held region of fewer samples gives no pivots.
+const HELD_SAMPLES_MIN: usize = 8;
 
 /// How a panel turned about an axis across its plane is held: its roundness about the axis and
 /// how much of it lies between still surfaces on both faces.
@@ -53,6 +60,65 @@ pub(crate) fn in_plane_turn(
     if !is_panel(&part) || !axis_across_panel(&part, axis) {
         return None;
     }
+    let (one_side, both_sides) = probe_faces(scene, moving, still, axis, &part, touch_m);
+    let probed = one_side + both_sides.len();
+    Some(InPlaneTurn {
+        residual: spin_residual(moving, axis, pivot),
+        sandwiched_share: if probed == 0 {
+            0.0
+        } else {
+            both_sides.len() as f64 / probed as f64
+        },
+    })
+}
+
+/// Pivots of lines along `axis` where a panel held across both faces by its parent turns (a
+/// folding knife's blade on the pin through its handle's scales): the mean of the moving
+/// group's samples (parts `moving`) with a still part close over and under them along the axis
+/// (as in [`in_plane_turn`], within the panel's thickness plus the rest-contact distance of
+/// `params`), and the centres of that held region's rounded ends ([`rounded_end_pivots`]).
+/// Empty when the moving group is no panel, the axis runs along its plane or nothing holds it
+/// on both faces. Object frame, metres.
+#[must_use]
+pub fn held_pivots(
+    scene: &Scene,
+    moving: &[usize],
+    axis: DVec3,
+    params: &SweepParams,
+) -> Vec<DVec3> {
+    let axis = axis.normalize_or_zero();
+    let points = scene.points_of(moving);
+    if points.len() < 3 || axis == DVec3::ZERO {
+        return Vec::new();
+    }
+    let part = PartBox::of(&points);
+    if !is_panel(&part) || !axis_across_panel(&part, axis) {
+        return Vec::new();
+    }
+    let still: Vec<usize> = (0..scene.part_count())
+        .filter(|p| !moving.contains(p))
+        .collect();
+    let touch_m = rest_contact_m(params, part.diagonal, scene.diagonal_m);
+    let (_, held) = probe_faces(scene, &points, &still, axis, &part, touch_m);
+    if held.len() < HELD_SAMPLES_MIN {
+        return Vec::new();
+    }
+    let mut out = vec![mean(&held)];
+    out.extend(rounded_end_pivots(&held, axis, box_axes(&held)));
+    out
+}
+
+/// Probes up to [`PROBE_SAMPLES_MAX`] of the panel's samples along `axis` both ways for a
+/// still part within the panel's thickness plus `touch_m`: how many have one on one side only,
+/// and the samples with one on both sides.
+fn probe_faces(
+    scene: &Scene,
+    moving: &[DVec3],
+    still: &[usize],
+    axis: DVec3,
+    part: &PartBox,
+    touch_m: f64,
+) -> (usize, Vec<DVec3>) {
     let reach_m = part.sorted_extents()[0] + touch_m;
     let close = |from: DVec3, direction: DVec3| {
         still.iter().any(|&s| {
@@ -62,22 +128,14 @@ pub(crate) fn in_plane_turn(
                 .is_some()
         })
     };
-    let (mut one_side, mut both_sides) = (0usize, 0usize);
+    let (mut one_side, mut both_sides) = (0usize, Vec::new());
     let stride = moving.len().div_ceil(PROBE_SAMPLES_MAX).max(1);
     for p in moving.iter().step_by(stride) {
         match (close(*p, axis), close(*p, -axis)) {
-            (true, true) => both_sides += 1,
+            (true, true) => both_sides.push(*p),
             (true, false) | (false, true) => one_side += 1,
             (false, false) => {}
         }
     }
-    let probed = one_side + both_sides;
-    Some(InPlaneTurn {
-        residual: spin_residual(moving, axis, pivot),
-        sandwiched_share: if probed == 0 {
-            0.0
-        } else {
-            both_sides as f64 / probed as f64
-        },
-    })
+    (one_side, both_sides)
 }

@@ -12,9 +12,9 @@
 //!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
-//!   edge lines, the cross-sections of its edges and the centres of its rounded ends
-//!   ([`articulation_candidates`], [`edge_pivots`], [`band_pivots`], [`rounded_end_pivots`]),
-//!   also used by grounders to enumerate hypotheses, and the
+//!   edge lines, the cross-sections of its edges, the centres of its rounded ends and of the
+//!   region its parent holds on both faces ([`articulation_candidates`], [`edge_pivots`],
+//!   [`band_pivots`], [`rounded_end_pivots`], [`held_pivots`]), also used by grounders to enumerate hypotheses, and the
 //!   line a spinning part is round about; corrections compared by how well they fit the part
 //!   (`fit`);
 //! - the whole articulation at once ([`verify_articulation`]).
@@ -54,7 +54,7 @@ pub use candidates::{
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
 pub use handle::{PANEL_SLAB_RATIO, panel_handle};
-pub use in_plane::InPlaneTurn;
+pub use in_plane::{InPlaneTurn, held_pivots};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
 pub use part_box::PartBox;

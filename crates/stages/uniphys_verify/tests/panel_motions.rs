@@ -7,7 +7,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use uniphys_geometry::{ConvexParams, DVec3, TriMesh, convex_decomposition};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
-use uniphys_verify::{Scene, SweepMetrics, SweepParams, sweep};
+use uniphys_verify::{Scene, SweepMetrics, SweepParams, edge_pivots, held_pivots, sweep};
 
 fn scene(meshes: Vec<TriMesh>) -> Scene {
     let colliders: Vec<Vec<TriMesh>> = meshes
@@ -116,6 +116,29 @@ fn an_open_blade_held_only_at_its_tang_passes() {
         .expect("a panel turned about its normal");
     assert!(turn.sandwiched_share > 0.9, "{turn:?}");
     assert!(!spun_in_plane(&reasons), "{reasons:?}");
+}
+
+#[test]
+fn an_open_blade_is_pivoted_in_the_middle_of_its_held_tang() {
+    // The blade (part 1) runs from x = 0.8 to 1.8; the scales hold its tang from 0.8 to 1.0,
+    // where the pin runs along z through (0.9, 0.05). The blade's own box lines miss the pin;
+    // the region held on both faces is centred on it.
+    let scene = knife((0.8, 1.8));
+    let to_pin = |p: &DVec3| (*p - DVec3::new(0.9, 0.05, 0.0)).truncate().length();
+    let held = held_pivots(&scene, &[1], DVec3::Z, &SweepParams::default());
+    let nearest = held.iter().map(to_pin).fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest < 0.005,
+        "held pivots {held:?} miss the pin by {nearest}"
+    );
+    let blade = scene.points_of(&[1]);
+    let boxed = edge_pivots(&blade, &[], [DVec3::X, DVec3::Y, DVec3::Z])
+        .iter()
+        .map(to_pin)
+        .fold(f64::INFINITY, f64::min);
+    assert!(boxed > 0.05, "{boxed}");
+    // A scale lies on one face of the blade only: nothing holds the scale across both faces.
+    assert!(held_pivots(&scene, &[2], DVec3::Z, &SweepParams::default()).is_empty());
 }
 
 /// A closed disc of `radius` and `thickness` about the z axis through `centre`'s line, from

@@ -10,7 +10,7 @@ use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
     JointVerdict, PatchParams, Scene, SweepParams, articulation_candidates, band_pivots,
-    edge_pivots, moving_group, parallel_map, rounded_end_pivots, verify_joint,
+    edge_pivots, held_pivots, moving_group, parallel_map, rounded_end_pivots, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
@@ -182,7 +182,8 @@ fn nearest_pivot(
     joint: &Joint,
     child_points: &[DVec3],
 ) -> Option<f64> {
-    let moving_points = scene.points_of(&moving_group(joints, joint.child));
+    let moving = moving_group(joints, joint.child);
+    let moving_points = scene.points_of(&moving);
     let parent_points = scene.points_of(&[joint.parent.0 as usize]);
     let part_axes = box_axes(child_points);
     let mut pivots = articulation_candidates(
@@ -199,6 +200,7 @@ fn nearest_pivot(
     let axis = DVec3::from_array(joint.axis_in_object);
     pivots.extend(band_pivots(&moving_points, axis, part_axes));
     pivots.extend(rounded_end_pivots(&moving_points, axis, part_axes));
+    pivots.extend(held_pivots(scene, &moving, axis, &SweepParams::default()));
     let on = DVec3::from_array(joint.pivot_in_object_m);
     pivots
         .iter()
