@@ -14,6 +14,9 @@ pub const DEFAULT_MAX_UPLOAD_BYTES: u64 = 512 * 1024 * 1024;
 pub struct ApiConfig {
     /// Largest upload accepted; a larger body is answered 413 and nothing is stored.
     pub max_upload_bytes: u64,
+    /// An upload whose next bytes take longer than this to arrive is answered 408 and
+    /// nothing is stored (a client that stalls after its headers).
+    pub body_read_timeout: Duration,
     /// Unfinished stage runs (blocked, ready, running) a tenant may have before submissions are
     /// answered 429.
     pub max_backlog_per_tenant: u64,
@@ -42,12 +45,13 @@ pub struct ApiConfig {
 }
 
 impl ApiConfig {
-    /// Defaults around `job_spec`: 512 MiB uploads, a backlog of 10,000 stage runs per tenant,
+    /// Defaults around `job_spec`: 512 MiB uploads that may pause 30 s between bytes, a backlog of 10,000 stage runs per tenant,
     /// batches of 1,000 items, keys under `incoming/t{tenant}/` and `sources/t{tenant}/`.
     #[must_use]
     pub fn new(job_spec: JobSpec) -> Self {
         Self {
             max_upload_bytes: DEFAULT_MAX_UPLOAD_BYTES,
+            body_read_timeout: Duration::from_secs(30),
             max_backlog_per_tenant: 10_000,
             backlog_retry_after_secs: 30,
             job_spec,
@@ -66,6 +70,13 @@ impl ApiConfig {
     #[must_use]
     pub fn with_max_upload_bytes(mut self, bytes: u64) -> Self {
         self.max_upload_bytes = bytes;
+        self
+    }
+
+    /// Sets how long an upload may pause between its bytes.
+    #[must_use]
+    pub fn with_body_read_timeout(mut self, timeout: Duration) -> Self {
+        self.body_read_timeout = timeout;
         self
     }
 

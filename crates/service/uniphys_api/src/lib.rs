@@ -41,6 +41,7 @@
 
 mod board;
 mod config;
+mod connections;
 mod dataset_stats;
 mod error;
 mod extract;
@@ -55,6 +56,7 @@ mod upload;
 mod views;
 
 pub use config::{ApiConfig, DEFAULT_MAX_UPLOAD_BYTES};
+pub use connections::{ConnectionLimits, serve_with_limits};
 pub use dataset_stats::{DatasetStats, Distribution, dataset_stats};
 pub use error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 pub use hooks::{BoxFuture, MetricsText, NoHooks, ReadinessCheck, ServiceHooks};

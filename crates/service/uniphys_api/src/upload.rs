@@ -2,6 +2,7 @@
 //! content types of stored files.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use axum::body::{Body, Bytes};
 use futures::StreamExt;
@@ -36,11 +37,60 @@ pub(crate) async fn spool_body(
     body: Body,
     dir: Option<PathBuf>,
     max_bytes: u64,
+    pause_max: Duration,
 ) -> ApiResult<Spooled> {
     let read_error = |e: axum::Error| {
         ApiError::bad_request("invalid_body", format!("reading the upload failed: {e}"))
     };
-    spool(body.into_data_stream(), dir, max_bytes, read_error).await
+    let stalled = |_| {
+        ApiError::RequestTimeout(format!(
+            "the upload stopped arriving: no bytes for {} s; send the body without pauses",
+            pause_max.as_secs_f64()
+        ))
+    };
+    let chunks = body.into_data_stream();
+    spool(
+        paced(chunks, pause_max),
+        dir,
+        max_bytes,
+        |e: Paced<axum::Error>| match e {
+            Paced::Stalled => stalled(()),
+            Paced::Failed(e) => read_error(e),
+        },
+    )
+    .await
+}
+
+/// A chunk error of a stream read with a pause limit: the stream's own, or no chunk in time.
+pub(crate) enum Paced<E> {
+    /// No chunk arrived within the limit.
+    Stalled,
+    /// The stream failed.
+    Failed(E),
+}
+
+/// `stream` with every wait for a chunk limited to `pause_max`; a stall ends the stream with
+/// [`Paced::Stalled`].
+fn paced<S, E>(
+    stream: S,
+    pause_max: Duration,
+) -> impl futures::Stream<Item = Result<Bytes, Paced<E>>> + Unpin
+where
+    S: futures::Stream<Item = Result<Bytes, E>> + Unpin,
+{
+    Box::pin(futures::stream::unfold(
+        (stream, false),
+        move |(mut stream, stalled)| async move {
+            if stalled {
+                return None;
+            }
+            match tokio::time::timeout(pause_max, stream.next()).await {
+                Err(_) => Some((Err(Paced::Stalled), (stream, true))),
+                Ok(None) => None,
+                Ok(Some(chunk)) => Some((chunk.map_err(Paced::Failed), (stream, false))),
+            }
+        },
+    ))
 }
 
 /// Writes the chunks of `stream` to a new spool file, hashing them, up to `max_bytes`; a chunk
@@ -245,18 +295,28 @@ mod tests {
     #[tokio::test]
     async fn spooling_hashes_and_stops_at_the_cap() {
         let dir = tempfile::tempdir().expect("temp dir");
-        let spooled = spool_body(Body::from("abc"), Some(dir.path().into()), 3)
-            .await
-            .expect("within the cap");
+        let spooled = spool_body(
+            Body::from("abc"),
+            Some(dir.path().into()),
+            3,
+            Duration::from_secs(5),
+        )
+        .await
+        .expect("within the cap");
         assert_eq!(spooled.size_bytes, 3);
         assert_eq!(
             spooled.sha256_hex,
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
         );
         drop(spooled);
-        let err = spool_body(Body::from("abcd"), Some(dir.path().into()), 3)
-            .await
-            .expect_err("over the cap");
+        let err = spool_body(
+            Body::from("abcd"),
+            Some(dir.path().into()),
+            3,
+            Duration::from_secs(5),
+        )
+        .await
+        .expect_err("over the cap");
         assert!(matches!(err, ApiError::PayloadTooLarge(_)));
         let left = std::fs::read_dir(dir.path()).expect("read dir").count();
         assert_eq!(left, 0, "spool files are removed");

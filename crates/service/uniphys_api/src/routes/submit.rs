@@ -112,7 +112,13 @@ pub(crate) async fn upload(
         return Err(empty_source("the upload"));
     }
     check_backlog(&state, tenant, 1).await?;
-    let spooled = spool_body(body, state.config.upload_tmp_dir.clone(), max).await?;
+    let spooled = spool_body(
+        body,
+        state.config.upload_tmp_dir.clone(),
+        max,
+        state.config.body_read_timeout,
+    )
+    .await?;
     if spooled.size_bytes == 0 {
         return Err(empty_source("the upload"));
     }

@@ -3,6 +3,7 @@
 
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::Duration;
 
 use anyhow::Context;
 use tokio_util::sync::CancellationToken;
@@ -95,7 +96,8 @@ async fn serve_api(
 ) -> anyhow::Result<()> {
     let config = ApiConfig::new(spec)
         .with_max_upload_bytes(args.max_upload_bytes)
-        .with_max_backlog_per_tenant(args.max_backlog_per_tenant);
+        .with_max_backlog_per_tenant(args.max_backlog_per_tenant)
+        .with_body_read_timeout(Duration::from_secs(args.body_read_timeout_secs));
     let mut state = ApiState::new(opened.store.clone(), opened.artifacts.clone(), config);
     state.hooks = Arc::new(Hooks {
         hints: opened.hints.clone(),
@@ -117,10 +119,15 @@ async fn serve_api(
         "dashboard on http://{}/ui/ (sign in with an API key)",
         args.listen
     );
-    axum::serve(listener, uniphys_api::router(state))
-        .with_graceful_shutdown(async move { shutdown.cancelled().await })
-        .await
-        .context("the API server failed")
+    let limits = uniphys_api::ConnectionLimits {
+        header_read_timeout: Duration::from_secs(args.header_read_timeout_secs),
+        max_connections_per_address: args.max_connections_per_address,
+    };
+    uniphys_api::serve_with_limits(listener, uniphys_api::router(state), limits, async move {
+        shutdown.cancelled().await
+    })
+    .await
+    .context("the API server failed")
 }
 
 /// Deletes finished jobs past their retention once an hour (the hot tables stay small).

@@ -29,6 +29,20 @@ pub struct ApiArgs {
     /// Unfinished stage runs a tenant may have before submissions get 429.
     #[arg(long, env = "UNIPHYS_MAX_BACKLOG_PER_TENANT", default_value_t = 10_000)]
     pub max_backlog_per_tenant: u64,
+    /// Seconds a client has to send a request's headers (and an idle keep-alive connection
+    /// stays open); slower clients are disconnected.
+    #[arg(long, env = "UNIPHYS_HEADER_READ_TIMEOUT_SECS", default_value_t = 10)]
+    pub header_read_timeout_secs: u64,
+    /// Seconds an upload may pause between its bytes before it is answered 408.
+    #[arg(long, env = "UNIPHYS_BODY_READ_TIMEOUT_SECS", default_value_t = 30)]
+    pub body_read_timeout_secs: u64,
+    /// Connections one client address may hold open at once; more are closed on accept.
+    #[arg(
+        long,
+        env = "UNIPHYS_MAX_CONNECTIONS_PER_ADDRESS",
+        default_value_t = 64
+    )]
+    pub max_connections_per_address: usize,
     /// Hours a succeeded or cancelled job (its runs, manifests and events) is kept; the API
     /// process deletes older ones every hour. Artifacts and assets stay.
     #[arg(long, env = "UNIPHYS_RETENTION_FINISHED_HOURS", default_value_t = 720)]
