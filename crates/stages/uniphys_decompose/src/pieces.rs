@@ -7,12 +7,14 @@
 //! creases and lets small controls vanish into the panel they sit on; one welded piece is almost
 //! never two parts (measured on the shared PartNet-Mobility objects: `decompose-bench --partnet`).
 //! Welded seams between a door and its frame are the exception; they stay with whichever side
-//! holds more of the piece. Pieces repeated many times over (the keys of a keyboard, the holes of
+//! holds more of the piece, except a round part carved out of the piece whose rest is not
+//! round about the same line (a wheel or a switch welded to its mount), which can spin. Pieces repeated many times over (the keys of a keyboard, the holes of
 //! a grille, screws) are surface detail, not controls: an appliance has a handful of controls.
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
 use crate::candidates::{UnionFind, relabel_by_first_face, welded_vertex_ids};
+use crate::round::{round_about, round_axis};
 
 /// Tuning of [`respect_pieces`]. Areas are shares of the total surface area.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,6 +35,9 @@ pub struct PieceOptions {
     /// a grille). Default 16.
     pub control_copies_max: usize,
 }
+
+/// A part with at least this share of its area inside one piece was carved out of it.
+const WELDED_INSIDE_SHARE: f64 = 0.95;
 
 impl Default for PieceOptions {
     fn default() -> Self {
@@ -100,6 +105,10 @@ pub fn respect_pieces(
         ..PieceReport::default()
     };
     let mut labels = face_part.to_vec();
+    let mut part_total_m2 = vec![0.0f64; parts];
+    for (f, &p) in face_part.iter().enumerate() {
+        part_total_m2[p as usize] += face_area_m2[f];
+    }
     let mut share = vec![0.0f64; parts];
     for faces in &faces_of {
         share.iter_mut().for_each(|s| *s = 0.0);
@@ -107,9 +116,28 @@ pub fn respect_pieces(
             share[face_part[f] as usize] += face_area_m2[f];
         }
         let owner = majority(&share);
-        if options.make_whole && faces.iter().any(|&f| face_part[f] != owner) {
-            report.pieces_made_whole += 1;
-            for &f in faces {
+        if !options.make_whole || faces.iter().all(|&f| face_part[f] == owner) {
+            continue;
+        }
+        // A round part carved whole out of the piece (a wheel or a knob welded to its mount)
+        // can spin against the rest of it: it stays, unless the rest is round about the same
+        // line (a band of a bucket's or a bottle's wall).
+        let kept: Vec<u32> = (0..parts)
+            .filter(|&p| {
+                p != owner as usize
+                    && share[p] >= WELDED_INSIDE_SHARE * part_total_m2[p]
+                    && share[p] >= options.control_area_fraction_min * total_m2
+                    && {
+                        let (own, rest): (Vec<usize>, Vec<usize>) =
+                            faces.iter().partition(|&&f| face_part[f] as usize == p);
+                        round_axis(mesh, &own).is_some_and(|(c, a)| !round_about(mesh, &rest, c, a))
+                    }
+            })
+            .map(|p| u32::try_from(p).unwrap_or(u32::MAX))
+            .collect();
+        report.pieces_made_whole += 1;
+        for &f in faces {
+            if !kept.contains(&face_part[f]) {
                 labels[f] = owner;
             }
         }

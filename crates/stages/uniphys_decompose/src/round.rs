@@ -19,28 +19,47 @@ const KEPT_SHARE_MIN: f64 = 0.9;
 /// through its samples' mean.
 #[must_use]
 pub fn is_round(mesh: &TriMesh, faces: &[usize]) -> bool {
+    round_axis(mesh, faces).is_some()
+}
+
+/// The line (a point on it, its unit direction) the part made of `faces` is round about: one
+/// of its principal directions through its samples' mean; `None` when it is round about none.
+#[must_use]
+pub fn round_axis(mesh: &TriMesh, faces: &[usize]) -> Option<(DVec3, DVec3)> {
+    let points = samples(mesh, faces);
+    if points.len() < 8 {
+        return None;
+    }
+    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
+    principal_axes(&points)
+        .into_iter()
+        .find(|&axis| round_about(mesh, faces, centre, axis))
+        .map(|axis| (centre, axis))
+}
+
+/// Whether the part made of `faces` maps onto itself when turned about the line through
+/// `centre` along unit `axis` (see [`TURNS_RAD`], [`KEPT_SHARE_MIN`]).
+#[must_use]
+pub fn round_about(mesh: &TriMesh, faces: &[usize], centre: DVec3, axis: DVec3) -> bool {
     let points = samples(mesh, faces);
     if points.len() < 8 {
         return false;
     }
     let triangles: Vec<[DVec3; 3]> = faces.iter().map(|&f| mesh.corners(f)).collect();
-    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
     let diagonal = uniphys_geometry::Aabb::from_points(&points).diagonal();
     let tolerance2 = (ON_SURFACE_FRACTION * diagonal).powi(2);
-    principal_axes(&points).into_iter().any(|axis| {
-        TURNS_RAD.iter().all(|&angle| {
-            let turn = DQuat::from_axis_angle(axis, angle);
-            let kept = points
-                .iter()
-                .filter(|&&p| {
-                    let q = centre + turn * (p - centre);
-                    triangles
-                        .iter()
-                        .any(|t| closest_on_triangle(q, t).distance_squared(q) <= tolerance2)
-                })
-                .count();
-            kept as f64 >= KEPT_SHARE_MIN * points.len() as f64
-        })
+    TURNS_RAD.iter().all(|&angle| {
+        let turn = DQuat::from_axis_angle(axis, angle);
+        let kept = points
+            .iter()
+            .filter(|&&p| {
+                let q = centre + turn * (p - centre);
+                triangles
+                    .iter()
+                    .any(|t| closest_on_triangle(q, t).distance_squared(q) <= tolerance2)
+            })
+            .count();
+        kept as f64 >= KEPT_SHARE_MIN * points.len() as f64
     })
 }
 
@@ -60,5 +79,16 @@ mod tests {
         assert!(!is_round(&bar, &faces(&bar)));
         let block = TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.2, 0.2, 0.05));
         assert!(!is_round(&block, &faces(&block)));
+    }
+
+    #[test]
+    fn a_cylinder_is_round_about_its_own_line_only() {
+        let wheel = uniphys_examples::shapes::cylinder(0.3, 0.0, 0.1, 48);
+        let all = faces(&wheel);
+        let (centre, axis) = round_axis(&wheel, &all).expect("round");
+        assert!(axis.dot(DVec3::Z).abs() > 0.999, "{axis}");
+        assert!(round_about(&wheel, &all, centre, axis));
+        assert!(!round_about(&wheel, &all, centre + DVec3::X * 0.2, axis));
+        assert!(!round_about(&wheel, &all, centre, DVec3::X));
     }
 }
