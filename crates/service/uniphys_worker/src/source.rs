@@ -67,10 +67,16 @@ impl SourceFile {
     }
 }
 
-/// A new temporary folder only its owner can enter (0700), named for the worker.
+/// Names of the worker's temporary folders start with this, then the worker process's id and
+/// a dash.
+const SOURCE_DIR_PREFIX: &str = "uniphys-source-";
+
+/// A new temporary folder only its owner can enter (0700), named for the worker process
+/// (`uniphys-source-<pid>-…`) so a later start can tell a dead process's leftovers.
 fn private_temp_dir() -> std::io::Result<TempDir> {
     let mut builder = tempfile::Builder::new();
-    builder.prefix("uniphys-source-");
+    let prefix = format!("{SOURCE_DIR_PREFIX}{}-", std::process::id());
+    builder.prefix(&prefix);
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
@@ -79,9 +85,60 @@ fn private_temp_dir() -> std::io::Result<TempDir> {
     builder.tempdir()
 }
 
+/// Removes the source folders under `temp_dir` left by worker processes that are no longer
+/// running (killed before they could clean up; a live process's folders, this one's included,
+/// stay). Returns how many were removed. Only where running processes can be listed (`/proc`);
+/// elsewhere nothing is removed.
+#[must_use]
+pub fn sweep_orphaned_sources(temp_dir: &Path) -> usize {
+    let proc_root = Path::new("/proc");
+    if !proc_root.join("self").exists() {
+        return 0;
+    }
+    let own = std::process::id();
+    let Ok(entries) = std::fs::read_dir(temp_dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let Some(pid) = name
+                .strip_prefix(SOURCE_DIR_PREFIX)
+                .and_then(|rest| rest.split('-').next())
+                .and_then(|pid| pid.parse::<u32>().ok())
+            else {
+                return false;
+            };
+            pid != own && !proc_root.join(pid.to_string()).exists()
+        })
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+        .filter(|e| std::fs::remove_dir_all(e.path()).is_ok())
+        .count()
+}
+
 #[cfg(all(test, unix))]
 mod tests {
     use std::os::unix::fs::PermissionsExt;
+
+    #[test]
+    fn a_dead_workers_folders_are_swept_and_a_live_ones_stay() {
+        let temp = tempfile::tempdir().expect("tempdir");
+        let make = |name: &str| {
+            let dir = temp.path().join(name);
+            std::fs::create_dir(&dir).expect("mkdir");
+            std::fs::write(dir.join("oven.glb"), b"bytes").expect("write");
+            dir
+        };
+        // Above Linux's largest process id: never a running process.
+        let dead = make("uniphys-source-999999999-a1b2");
+        let own = make(&format!("uniphys-source-{}-c3d4", std::process::id()));
+        let init = make("uniphys-source-1-e5f6");
+        let other = make("someone-elses-999999999-x");
+        assert_eq!(super::sweep_orphaned_sources(temp.path()), 1);
+        assert!(!dead.exists());
+        assert!(own.exists() && init.exists() && other.exists());
+    }
 
     #[test]
     fn the_temporary_folder_is_the_owners_only() {

@@ -100,6 +100,13 @@ impl Worker {
     /// or was released.
     pub async fn run(self, shutdown: CancellationToken) -> WorkerResult<()> {
         info!(worker = %self.shared.id, stages = ?self.shared.config.stages, "worker started");
+        let swept = crate::source::sweep_orphaned_sources(&std::env::temp_dir());
+        if swept > 0 {
+            info!(
+                folders = swept,
+                "removed source folders of worker processes that died"
+            );
+        }
         let mut loops = JoinSet::new();
         for slots in self.shared.config.stages.clone() {
             let stage = self
