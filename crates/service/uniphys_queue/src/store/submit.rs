@@ -89,21 +89,31 @@ impl QueueStore {
         let size = i64::try_from(asset.size_bytes)
             .map_err(|_| QueueError::Invalid("asset too large".into()))?;
         let mut tx = self.db.write_tx().await?;
-        let inserted = tx
-            .fetch_optional(
-                &INSERT_ASSET,
-                args![
-                    tenant.0,
-                    asset.content_digest.as_str(),
-                    asset.source_uri.as_str(),
-                    size
-                ],
-            )
-            .await
-            .map_err(|e| foreign_key_to_not_found(e, tenant))?;
-        let (asset_id, asset_created) = match inserted {
-            Some(row) => (AssetId(row.i64("id")?), true),
-            None => {
+        // Known content first: an insert that meets the conflict would still use up an id of
+        // PostgreSQL's sequence on every re-submit.
+        let known = tx
+            .fetch_optional(&FIND_ASSET, args![tenant.0, asset.content_digest.as_str()])
+            .await?;
+        let inserted = match known {
+            Some(_) => None,
+            None => tx
+                .fetch_optional(
+                    &INSERT_ASSET,
+                    args![
+                        tenant.0,
+                        asset.content_digest.as_str(),
+                        asset.source_uri.as_str(),
+                        size
+                    ],
+                )
+                .await
+                .map_err(|e| foreign_key_to_not_found(e, tenant))?,
+        };
+        let (asset_id, asset_created) = match (known, inserted) {
+            (_, Some(row)) => (AssetId(row.i64("id")?), true),
+            (Some(row), None) => (AssetId(row.i64("id")?), false),
+            // Inserted by a concurrent submission between the look-up and the insert.
+            (None, None) => {
                 let row = tx
                     .fetch_one(&FIND_ASSET, args![tenant.0, asset.content_digest.as_str()])
                     .await?;

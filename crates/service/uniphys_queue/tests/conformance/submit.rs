@@ -25,9 +25,18 @@ pub async fn resubmitting_the_same_content_returns_the_same_asset_and_job(backen
     let theirs = t.submit(other, "aaa", &spec).await;
     assert!(theirs.asset_created);
     assert_ne!(theirs.asset_id, first.asset_id);
+    // Re-submits use up no asset id: after three more, new bytes take the next id.
+    for _ in 0..3 {
+        t.submit(acme, "aaa", &spec).await;
+    }
     // Different bytes from the same tenant: a new asset.
     let second = t.submit(acme, "bbb", &spec).await;
     assert_ne!(second.asset_id, first.asset_id);
+    assert_eq!(
+        second.asset_id.0,
+        theirs.asset_id.0 + 1,
+        "re-submits used up asset ids"
+    );
 
     let job = t.store.get_job(acme, first.job_id).await.expect("job");
     let names: Vec<&str> = job.stages.iter().map(|s| s.stage_name.as_str()).collect();
