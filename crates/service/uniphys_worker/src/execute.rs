@@ -76,9 +76,9 @@ pub(crate) async fn execute(
         let thread_stage = Arc::clone(&stage);
         let mut task = tokio::task::spawn_blocking(move || {
             let mut out = OutputWriter::new(&input, thread_stage.name(), thread_stage.version());
-            thread_stage
-                .run(&input, &mut out, &thread_control)
-                .map(|summary| out.into_manifest(summary))
+            let result = thread_stage.run(&input, &mut out, &thread_control);
+            let created = out.created_keys();
+            (result.map(|summary| out.into_manifest(summary)), created)
         });
 
         let mut heartbeat = tokio::time::interval(shared.config.lease / 3);
@@ -125,7 +125,7 @@ pub(crate) async fn execute(
                     interrupt = Some(Interrupt::Shutdown);
                     control.stop();
                     // The stage thread cannot be killed; hand the run back now and stop waiting.
-                    break Ok(Err(StageError::Stopped));
+                    break Ok((Err(StageError::Stopped), Vec::new()));
                 }
             }
         };
@@ -141,16 +141,27 @@ pub(crate) async fn execute(
     .await;
 }
 
+/// What a stage thread returns: its manifest or error, and the keys of the objects it created.
+type StageResult =
+    Result<(Result<OutputManifest, StageError>, Vec<String>), tokio::task::JoinError>;
+
 /// Records how the run ended; `None` when it was released or left to lease recovery.
 async fn finish(
     shared: &Shared,
     run: &ClaimedRun,
-    result: Result<Result<OutputManifest, StageError>, tokio::task::JoinError>,
+    result: StageResult,
     interrupt: Option<Interrupt>,
     deadline: Duration,
 ) -> Option<StageOutcome> {
+    let (result, created) = match result {
+        Ok((outcome, created)) => (Ok(outcome), created),
+        Err(join) => (Err(join), Vec::new()),
+    };
     if let Some(Interrupt::Fenced(outcome)) = interrupt {
         info!("the run was taken away (lease lost or cancelled); its result is dropped");
+        if outcome == StageOutcome::Cancelled {
+            remove_created(shared, &created).await;
+        }
         return Some(outcome);
     }
     let failure = match result {
@@ -170,7 +181,7 @@ async fn finish(
                     }
                     Some(StageOutcome::Succeeded)
                 }
-                Err(e) => Some(fenced_or_lost(&e)),
+                Err(e) => Some(dropped(shared, &e, &created).await),
             };
         }
         Ok(Err(StageError::Stopped)) => match interrupt {
@@ -201,7 +212,35 @@ async fn finish(
     {
         Ok(FailOutcome::RetryScheduled { .. }) => Some(StageOutcome::Retrying),
         Ok(FailOutcome::DeadLettered) => Some(StageOutcome::Dead),
-        Err(e) => Some(fenced_or_lost(&e)),
+        Err(e) => Some(dropped(shared, &e, &created).await),
+    }
+}
+
+/// The outcome of a run whose end the store refused with `e`; a cancelled run's objects
+/// (`created`) are removed.
+async fn dropped(shared: &Shared, e: &QueueError, created: &[String]) -> StageOutcome {
+    let outcome = fenced_or_lost(e);
+    if outcome == StageOutcome::Cancelled {
+        remove_created(shared, created).await;
+    }
+    outcome
+}
+
+/// Removes the objects a cancelled run created: no manifest will list them, and a retry writes
+/// them again. Objects it found already there (another run's) stay.
+async fn remove_created(shared: &Shared, created: &[String]) {
+    let mut removed = 0usize;
+    for key in created {
+        match shared.artifacts.delete(key).await {
+            Ok(()) => removed += 1,
+            Err(e) => warn!(%key, error = %e, "an object of the cancelled run was not removed"),
+        }
+    }
+    if removed > 0 {
+        info!(
+            objects = removed,
+            "removed the objects the cancelled run wrote"
+        );
     }
 }
 

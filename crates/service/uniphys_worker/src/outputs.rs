@@ -16,6 +16,7 @@ pub struct OutputWriter {
     runtime: tokio::runtime::Handle,
     written: Vec<ArtifactEntry>,
     already_present: usize,
+    created: Vec<String>,
 }
 
 /// The digest of everything a stage's output depends on: the asset's content digest, the stage
@@ -58,6 +59,7 @@ impl OutputWriter {
             runtime: input.runtime.clone(),
             written: Vec::new(),
             already_present: 0,
+            created: Vec::new(),
         }
     }
 
@@ -84,7 +86,7 @@ impl OutputWriter {
         let sha256 = hex::encode(Sha256::digest(&bytes));
         let size = bytes.len() as u64;
         match self.runtime.block_on(self.artifacts.put_once(&key, bytes)) {
-            Ok(PutOutcome::Created) => {}
+            Ok(PutOutcome::Created) => self.created.push(key.clone()),
             Ok(PutOutcome::AlreadyPresent) => self.already_present += 1,
             Err(e @ StorageError::Conflict { .. }) => {
                 return Err(StageError::Permanent(format!(
@@ -106,6 +108,13 @@ impl OutputWriter {
     #[must_use]
     pub fn already_present(&self) -> usize {
         self.already_present
+    }
+
+    /// Keys of the objects this run created (not those it found already there): what to remove
+    /// when its result is dropped.
+    #[must_use]
+    pub fn created_keys(&self) -> Vec<String> {
+        self.created.clone()
     }
 
     /// The manifest of what was written, with `summary`.

@@ -1,7 +1,7 @@
 //! The worker against a real store (SQLite in a temp dir) and a local object store: stand-in
 //! graphs run to the end with deterministic outputs, a broken input dead-letters at once with a
 //! readable error, the real pipeline converts an example (and decomposes one given in one piece),
-//! and shutdown releases what it holds.
+//! shutdown releases what it holds, and a cancel stops a running stage and removes what it wrote.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -354,4 +354,54 @@ async fn shutdown_releases_runs_that_outlive_the_grace_period() {
         "the release did not use up an attempt"
     );
     assert!(run.errors.is_empty());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_cancel_stops_the_running_stage_and_removes_what_it_wrote() {
+    let f = fixture().await;
+    let asset = NewAsset {
+        content_digest: "sha256:cancelled".into(),
+        source_uri: "sources/cancelled".into(),
+        size_bytes: 1,
+    };
+    let sub = f
+        .store
+        .submit(f.tenant, &asset, &JobSpec::chain(&["slow"]))
+        .await
+        .expect("submit");
+    // The stand-in writes its artifact first, then works for a minute.
+    let registry = StageRegistry::stand_ins(&["slow"], Duration::from_secs(60));
+    let (shutdown, handle) = f.start(registry, config(&[("slow", 1)]));
+    let prefix = format!("{}/slow/", sub.asset_id.0);
+    let until = Instant::now() + Duration::from_secs(20);
+    while f.artifacts.list(&prefix).await.expect("list").is_empty() {
+        assert!(Instant::now() < until, "the stage never wrote its artifact");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    f.store
+        .cancel_job(f.tenant, sub.job_id)
+        .await
+        .expect("cancel");
+    // The worker learns of the cancel at its next heartbeat (a third of the 5 s lease), stops
+    // the stage at its next check and removes the object.
+    let until = Instant::now() + Duration::from_secs(15);
+    loop {
+        let left = f.artifacts.list(&prefix).await.expect("list");
+        if left.is_empty() {
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "objects of the cancelled run remain: {left:?}"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Cancelled);
+    assert!(job.stage("slow").expect("slow").output_manifest.is_none());
+    shutdown.cancel();
+    tokio::time::timeout(Duration::from_secs(10), handle)
+        .await
+        .expect("the stopped stage does not hold the worker")
+        .expect("worker stops");
 }

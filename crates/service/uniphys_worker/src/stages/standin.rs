@@ -1,6 +1,6 @@
-//! A fast stand-in stage for tests, crash tests and benchmarks: it hashes its input, optionally
-//! sleeps, and writes one small artifact whose bytes depend only on its input, so a re-run must
-//! write the same bytes.
+//! A fast stand-in stage for tests, crash tests and benchmarks: it hashes its input, writes one
+//! small artifact whose bytes depend only on its input (so a re-run must write the same bytes)
+//! and then optionally works a while, as a real stage writes files before it finishes.
 
 use std::time::Duration;
 
@@ -58,13 +58,13 @@ impl Stage for StandInStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
+        out.put("out.txt", standin_output(&self.name, input))?;
         let steps = 10u32;
         for step in 0..steps {
             control.check()?;
             std::thread::sleep(self.work / steps);
             control.progress(f64::from(step + 1) / f64::from(steps), "working");
         }
-        out.put("out.txt", standin_output(&self.name, input))?;
         Ok(json!({ "stand_in": true, "rewrites": out.already_present() }))
     }
 }
