@@ -15,6 +15,8 @@ pub type ApiResult<T> = Result<T, ApiError>;
 
 /// Seconds a client should wait after a 503 before trying again.
 pub(crate) const UNAVAILABLE_RETRY_AFTER_SECS: u64 = 5;
+/// `Retry-After` of a 429 from a full backlog when the route does not set its own, seconds.
+const BUSY_RETRY_AFTER_SECS: u64 = 30;
 
 /// Why a request failed; each variant is one HTTP status.
 #[derive(Debug, thiserror::Error)]
@@ -181,6 +183,10 @@ impl From<QueueError> for ApiError {
             QueueErrorKind::NotFound => Self::NotFound(e.to_string()),
             QueueErrorKind::Conflict | QueueErrorKind::Fenced => Self::Conflict(e.to_string()),
             QueueErrorKind::InvalidInput => Self::Unprocessable(e.to_string()),
+            QueueErrorKind::Busy => Self::Backpressure {
+                message: format!("{e}; retry later"),
+                retry_after_secs: BUSY_RETRY_AFTER_SECS,
+            },
             QueueErrorKind::Unavailable => Self::Unavailable(error_chain(&e)),
             QueueErrorKind::Internal => Self::Internal(error_chain(&e)),
         }

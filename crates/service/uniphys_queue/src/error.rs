@@ -57,6 +57,18 @@ pub enum QueueError {
     /// The request itself is malformed (bad stage graph, empty stage list, bad URL).
     #[error("invalid request: {0}")]
     Invalid(String),
+    /// A submission would take the tenant's unfinished stage runs over its cap.
+    #[error(
+        "backlog full: the tenant has {backlog} unfinished stage runs and this job adds {adding} (cap {cap})"
+    )]
+    BacklogFull {
+        /// Unfinished stage runs now.
+        backlog: u64,
+        /// Runs the job would add.
+        adding: u64,
+        /// The cap.
+        cap: u64,
+    },
     /// A row holds a value this code cannot read (unknown state, malformed JSON).
     #[error("corrupt row: {0}")]
     CorruptRow(String),
@@ -79,6 +91,8 @@ pub enum QueueErrorKind {
     Conflict,
     /// The request is malformed (HTTP 400).
     InvalidInput,
+    /// The tenant's backlog is at its cap; retrying later may succeed (HTTP 429).
+    Busy,
     /// The database failed; retrying later may succeed (HTTP 503).
     Unavailable,
     /// Stored data is unreadable or migrations failed: a bug or a broken deployment (HTTP 500).
@@ -94,6 +108,7 @@ impl QueueError {
             Self::NotFound { .. } => QueueErrorKind::NotFound,
             Self::InvalidTransition { .. } | Self::AlreadyExists { .. } => QueueErrorKind::Conflict,
             Self::Invalid(_) => QueueErrorKind::InvalidInput,
+            Self::BacklogFull { .. } => QueueErrorKind::Busy,
             Self::Database(_) => QueueErrorKind::Unavailable,
             Self::CorruptRow(_) | Self::Migrate(_) => QueueErrorKind::Internal,
         }

@@ -9,7 +9,7 @@ use axum::extract::State;
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
-use uniphys_queue::{JobState, NewAsset, TenantId};
+use uniphys_queue::{JobState, NewAsset, QueueError, TenantId};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::ApiState;
@@ -168,10 +168,32 @@ pub(crate) async fn store_and_submit(
         source_uri: key,
         size_bytes: spooled.size_bytes,
     };
-    let submission = state
+    // The cap is checked again inside the submission's transaction: concurrent requests that
+    // all passed `check_backlog` cannot take the tenant over it together.
+    let submitted = state
         .store
-        .submit_in_batch(tenant, &asset, &spec, placement.batch)
-        .await?;
+        .submit_capped(
+            tenant,
+            &asset,
+            &spec,
+            placement.batch,
+            Some(state.config.max_backlog_per_tenant),
+        )
+        .await;
+    let submission = match submitted {
+        Ok(submission) => submission,
+        Err(e @ QueueError::BacklogFull { .. }) => {
+            // Refused content is new (known content makes no job): its copy goes too.
+            if let Err(delete) = state.artifacts.delete(&asset.source_uri).await {
+                tracing::warn!(key = %asset.source_uri, error = %delete, "a refused upload's copy was not removed");
+            }
+            return Err(ApiError::Backpressure {
+                message: format!("{e}; retry later"),
+                retry_after_secs: state.config.backlog_retry_after_secs,
+            });
+        }
+        Err(e) => return Err(e.into()),
+    };
     if submission.job_created {
         let roots: BTreeSet<String> = spec
             .stages

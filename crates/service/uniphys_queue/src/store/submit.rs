@@ -41,6 +41,12 @@ static INSERT_ASSET: Sql = Sql::new(
      ON CONFLICT (tenant_id, content_digest) DO NOTHING
      RETURNING id",
 );
+// Serialises a tenant's capped submissions (SQLite's writer is single already).
+static LOCK_TENANT: Sql = Sql::new("SELECT id FROM tenants WHERE id = $1 {for_update}");
+static BACKLOG: Sql = Sql::new(
+    "SELECT COUNT(*) AS n FROM stage_runs
+     WHERE tenant_id = $1 AND state IN ('blocked', 'ready', 'running')",
+);
 static FIND_ASSET: Sql =
     Sql::new("SELECT id FROM assets WHERE tenant_id = $1 AND content_digest = $2");
 static OWNED_ASSET: Sql = Sql::new("SELECT id FROM assets WHERE id = $1 AND tenant_id = $2");
@@ -82,6 +88,22 @@ impl QueueStore {
         spec: &JobSpec,
         batch: Option<&str>,
     ) -> QueueResult<Submission> {
+        self.submit_capped(tenant, asset, spec, batch, None).await
+    }
+
+    /// [`submit_in_batch`](Self::submit_in_batch) refused with `BacklogFull` when a new job
+    /// would take the tenant's unfinished stage runs over `max_backlog`, checked in the
+    /// submission's transaction with the tenant's row locked, so concurrent submissions cannot
+    /// pass the cap together (a re-submit that creates no job is never refused; nothing is kept
+    /// of a refused one).
+    pub async fn submit_capped(
+        &self,
+        tenant: TenantId,
+        asset: &NewAsset,
+        spec: &JobSpec,
+        batch: Option<&str>,
+        max_backlog: Option<u64>,
+    ) -> QueueResult<Submission> {
         spec.validate()?;
         if let Some(label) = batch {
             validate_batch_label(label)?;
@@ -94,6 +116,13 @@ impl QueueStore {
         let known = tx
             .fetch_optional(&FIND_ASSET, args![tenant.0, asset.content_digest.as_str()])
             .await?;
+        // New content makes a job: the cap is checked before anything is written (a refused
+        // insert would still use up a sequence id).
+        if known.is_none()
+            && let Some(cap) = max_backlog
+        {
+            check_cap(&mut tx, tenant, spec, cap).await?;
+        }
         let inserted = match known {
             Some(_) => None,
             None => tx
@@ -127,7 +156,13 @@ impl QueueStore {
         };
         let (job_id, job_created) = match existing {
             Some(row) => (JobId(row.i64("id")?), false),
-            None => (insert_job(&mut tx, tenant, asset_id, spec).await?, true),
+            None => {
+                // Known content without a job (its job was purged): checked here.
+                if !asset_created && let Some(cap) = max_backlog {
+                    check_cap(&mut tx, tenant, spec, cap).await?;
+                }
+                (insert_job(&mut tx, tenant, asset_id, spec).await?, true)
+            }
         };
         if let Some(label) = batch {
             add_to_batch(&mut tx, tenant, label, job_id).await?;
@@ -161,6 +196,30 @@ impl QueueStore {
         tx.commit().await?;
         Ok(job)
     }
+}
+
+/// Refuses with `BacklogFull` when `spec`'s runs would take `tenant`'s unfinished stage runs
+/// over `cap`; the tenant's row stays locked until the transaction ends, so concurrent capped
+/// submissions of one tenant are counted one after another.
+async fn check_cap(
+    tx: &mut Session,
+    tenant: TenantId,
+    spec: &JobSpec,
+    cap: u64,
+) -> QueueResult<()> {
+    tx.fetch_optional(&LOCK_TENANT, args![tenant.0]).await?;
+    let row = tx.fetch_one(&BACKLOG, args![tenant.0]).await?;
+    let backlog = u64::try_from(row.i64("n")?)
+        .map_err(|_| QueueError::CorruptRow("negative count".into()))?;
+    let adding = spec.stages.len() as u64;
+    if backlog.saturating_add(adding) > cap {
+        return Err(QueueError::BacklogFull {
+            backlog,
+            adding,
+            cap,
+        });
+    }
+    Ok(())
 }
 
 /// Inserts the job, its runs (dependencies first) and the DAG edges.

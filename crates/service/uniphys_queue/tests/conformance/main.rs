@@ -42,6 +42,7 @@ macro_rules! conformance {
 conformance!(
     submit::resubmitting_the_same_content_returns_the_same_asset_and_job,
     submit::concurrent_resubmits_create_one_asset_and_one_job,
+    submit::concurrent_capped_submissions_stop_at_the_backlog_cap,
     submit::invalid_or_foreign_submissions_store_nothing,
     submit::api_keys_are_stored_hashed_and_resolve_to_their_tenant,
     submit::tenant_names_are_validated,

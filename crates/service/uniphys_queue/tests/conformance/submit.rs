@@ -90,6 +90,51 @@ pub async fn concurrent_resubmits_create_one_asset_and_one_job(backend: Backend)
     t.finish().await;
 }
 
+pub async fn concurrent_capped_submissions_stop_at_the_backlog_cap(backend: Backend) {
+    let Some(t) = harness::open(backend, NO_BACKOFF).await else {
+        return;
+    };
+    let acme = t.tenant("acme").await;
+    // Three runs a job and a cap of seven: two jobs fit, a third would make nine.
+    let spec = JobSpec::chain(&["ingest", "ground", "export"]);
+    let mut tasks = Vec::new();
+    for i in 0..8 {
+        let store = t.store.clone();
+        let spec = spec.clone();
+        tasks.push(tokio::spawn(async move {
+            store
+                .submit_capped(acme, &asset(&format!("c{i}")), &spec, None, Some(7))
+                .await
+        }));
+    }
+    let mut accepted = Vec::new();
+    for (i, task) in tasks.into_iter().enumerate() {
+        match task.await.expect("join") {
+            Ok(submission) => accepted.push((i, submission)),
+            Err(e) => assert_eq!(e.kind(), QueueErrorKind::Busy, "{e}"),
+        }
+    }
+    assert_eq!(accepted.len(), 2, "{accepted:?}");
+    assert_eq!(t.store.tenant_backlog(acme).await.expect("backlog"), 6);
+    // Known content makes no job and is never refused.
+    let (known, first) = &accepted[0];
+    let again = t
+        .store
+        .submit_capped(acme, &asset(&format!("c{known}")), &spec, None, Some(7))
+        .await
+        .expect("a re-submit is not refused");
+    assert_eq!((again.job_id, again.job_created), (first.job_id, false));
+    // Refused submissions kept nothing, not even an asset id: new content takes the next one.
+    let late = t.submit(acme, "late", &spec).await;
+    let highest = accepted
+        .iter()
+        .map(|(_, s)| s.asset_id.0)
+        .max()
+        .expect("ids");
+    assert_eq!(late.asset_id.0, highest + 1);
+    t.finish().await;
+}
+
 pub async fn invalid_or_foreign_submissions_store_nothing(backend: Backend) {
     let Some(t) = harness::open(backend, NO_BACKOFF).await else {
         return;
