@@ -45,8 +45,9 @@ pub struct ApiConfig {
 }
 
 impl ApiConfig {
-    /// Defaults around `job_spec`: 512 MiB uploads that may pause 30 s between bytes, a backlog of 10,000 stage runs per tenant,
-    /// batches of 1,000 items, keys under `incoming/t{tenant}/` and `sources/t{tenant}/`.
+    /// Defaults around `job_spec`: 512 MiB uploads that may pause 30 s between bytes, a
+    /// backlog of 10,000 stage runs per tenant, batches of 1,000 items, keys under
+    /// `incoming/t{tenant}/` and `sources/t{tenant}/`.
     #[must_use]
     pub fn new(job_spec: JobSpec) -> Self {
         Self {

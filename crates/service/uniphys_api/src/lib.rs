@@ -27,6 +27,8 @@
 //! Ids are answered as `asset_12`, `job_7`; paths accept `asset_12` or `12`.
 //!
 //! - `config.rs`: [`ApiConfig`], limits and the stage graph of submissions.
+//! - `connections.rs`: [`serve_with_limits`], the accept loop with a deadline for a request's
+//!   headers and a cap on one address's connections ([`ConnectionLimits`]).
 //! - `hooks.rs`: [`ServiceHooks`], [`NoHooks`].
 //! - `state.rs`: [`ApiState`].
 //! - `router.rs`: [`router`], [`openapi`], tracing and request metrics.

@@ -2,9 +2,9 @@
 //! reversed or cut where the sweep first failed; for a part that spins in place, the line it is
 //! round about; another pivot on the same axis (contact clusters, the part's edge lines, its
 //! edges' cross-sections, the centres of its rounded ends and, for a panel its parent holds on
-//! both faces, of the held region), keeping the direction, then reversing it; another axis (for a slide
-//! first the normal of the face it touches and the axis of the walls around it); the other kind
-//! of motion (slide for turn, turn for slide).
+//! both faces, of the held region), keeping the direction, then reversing it; another axis (for
+//! a slide first the normal of the face it touches and the axis of the walls around it); the
+//! other kind of motion (slide for turn, turn for slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
 //! it by the share cut away), then the one with the most margin. Across tiers the smaller
