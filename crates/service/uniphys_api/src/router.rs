@@ -14,6 +14,7 @@ use utoipa::{Modify, OpenApi};
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
+use crate::connections::{ConnectionLimits, serve_with_limits};
 use crate::error::ApiError;
 use crate::routes::ops::OpenApiJson;
 use crate::routes::{artifacts, assets, batches, import, jobs, ops, overview, submit, work};
@@ -90,16 +91,20 @@ fn with_openapi_path_syntax(mut doc: utoipa::openapi::OpenApi) -> utoipa::openap
     doc
 }
 
-/// Serves `router(state)` on `listener` until `shutdown` completes, then finishes the requests
-/// in flight.
+/// Serves `router(state)` on `listener` within the default [`ConnectionLimits`] until
+/// `shutdown` completes, then finishes the requests in flight.
 pub async fn serve(
     listener: tokio::net::TcpListener,
     state: ApiState,
     shutdown: impl std::future::Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    axum::serve(listener, router(state))
-        .with_graceful_shutdown(shutdown)
-        .await
+    serve_with_limits(
+        listener,
+        router(state),
+        ConnectionLimits::default(),
+        shutdown,
+    )
+    .await
 }
 
 /// The API's router, ready to serve (`axum::serve(listener, router(state))`) or to call in tests.
