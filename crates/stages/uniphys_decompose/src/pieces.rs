@@ -8,8 +8,9 @@
 //! never two parts (measured on the shared PartNet-Mobility objects: `decompose-bench --partnet`).
 //! Welded seams between a door and its frame are the exception; they stay with whichever side
 //! holds more of the piece, except a round part carved out of the piece whose rest is not
-//! round about the same line (a wheel or a switch welded to its mount), which can spin. Pieces repeated many times over (the keys of a keyboard, the holes of
-//! a grille, screws) are surface detail, not controls: an appliance has a handful of controls.
+//! round about the same line (a wheel or a switch welded to its mount), which can spin. Pieces
+//! repeated many times over (the keys of a keyboard, the holes of a grille, screws) are surface
+//! detail, not controls: an appliance has a handful of controls.
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
