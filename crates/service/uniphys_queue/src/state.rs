@@ -5,9 +5,11 @@
 //!                                      ▲                 │
 //!                                      └─fail (backoff)──┤──fail, attempts used up──► dead ──retry──► ready
 //!                                                        └─lease expired: recovered like a failure
-//!             blocked | ready | running ──cancel job──► cancelled ──retry──► ready (blocked while a dependency is unfinished)
+//!             blocked | ready | running ──cancel job──► cancelled ──retry──► ready
+//!                                                                  (blocked while a dependency is unfinished)
 //! job:        running ──all stages succeeded──► succeeded
-//!             running ──a stage dead──► dead ──retry──► running;   running | dead ──cancel──► cancelled ──retry──► running
+//!             running ──a stage dead──► dead ──retry──► running
+//!             running | dead ──cancel──► cancelled ──retry──► running
 //! ```
 
 use std::fmt;

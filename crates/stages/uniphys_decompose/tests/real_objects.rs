@@ -1,7 +1,8 @@
 //! The stage on real objects of the shared PartNet-Mobility set (`../shared/data/partnet-mobility/`
 //! beside the repository), merged into one mesh with no names, colours or materials, as
-//! `decompose-bench --partnet` does: small controls and wheels are not merged away, a connected piece of the
-//! mesh is never cut, and inner panels hidden behind a closed door join the body.
+//! `decompose-bench --partnet` does: small controls, wheels and welded round switches are not
+//! merged away, a connected piece of the mesh is never cut, and inner panels hidden behind a
+//! closed door join the body.
 
 use uniphys_decompose::{
     BuiltinSegmenter, DecomposeOptions, Decomposition, GeometricGenerator, decompose_asset,

@@ -14,8 +14,9 @@
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
 //!   edge lines, the cross-sections of its edges, the centres of its rounded ends and of the
 //!   region its parent holds on both faces ([`articulation_candidates`], [`edge_pivots`],
-//!   [`band_pivots`], [`rounded_end_pivots`], [`held_pivots`]), also used by grounders to enumerate hypotheses, and the
-//!   line a spinning part is round about; corrections compared by how well they fit the part
+//!   [`band_pivots`], [`rounded_end_pivots`], [`held_pivots`]), also used by grounders to
+//!   enumerate hypotheses, and the line a spinning part is round about; corrections compared by
+//!   how well they fit the part
 //!   (`fit`);
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
