@@ -16,8 +16,8 @@
 //!   split, small fragments merged; all thresholds relative to the object size; [`pieces`]: the
 //!   mesh's connected pieces made whole, small compact pieces (knobs, buttons) kept as parts;
 //!   [`round`]: whether a part maps onto itself when turned (a wheel or a dial is kept, since
-//!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed object (unreachable, so not operable) merged
-//!   into the largest part;
+//!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed
+//!   object (unreachable, so not operable) merged into the largest part;
 //! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored

@@ -38,7 +38,8 @@ pub fn round_axis(mesh: &TriMesh, faces: &[usize]) -> Option<(DVec3, DVec3)> {
 }
 
 /// Whether the part made of `faces` maps onto itself when turned about the line through
-/// `centre` along unit `axis` (see [`TURNS_RAD`], [`KEPT_SHARE_MIN`]).
+/// `centre` along unit `axis`: at three turns, none a multiple of another, 90 % of its samples
+/// land within 3 % of its diagonal of its own surface.
 #[must_use]
 pub fn round_about(mesh: &TriMesh, faces: &[usize], centre: DVec3, axis: DVec3) -> bool {
     let points = samples(mesh, faces);

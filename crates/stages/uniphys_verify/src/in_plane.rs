@@ -75,7 +75,7 @@ pub(crate) fn in_plane_turn(
 /// Pivots of lines along `axis` where a panel held across both faces by its parent turns (a
 /// folding knife's blade on the pin through its handle's scales): the mean of the moving
 /// group's samples (parts `moving`) with a still part close over and under them along the axis
-/// (as in [`in_plane_turn`], within the panel's thickness plus the rest-contact distance of
+/// (as the in-plane rule probes, within the panel's thickness plus the rest-contact distance of
 /// `params`), and the centres of that held region's rounded ends ([`rounded_end_pivots`]).
 /// Empty when the moving group is no panel, the axis runs along its plane or nothing holds it
 /// on both faces. Object frame, metres.

@@ -120,7 +120,7 @@ pub struct ViewImage<'a> {
 
 /// A source of per-view 2D segmentations.
 pub trait Segmenter: Send + Sync {
-    /// Who produced the masks, e.g. "builtin-render-segmenter" or "sam:<model>".
+    /// Who produced the masks, e.g. "builtin-render-segmenter" or `sam:<model>`.
     fn provider(&self) -> String;
     /// The label map of one view, the same size as the view's images.
     fn segment(&self, view: &ViewImage<'_>) -> DecomposeResult<LabelMap>;
