@@ -12,7 +12,7 @@ use uniphys_geometry::{TriMesh, connected_components};
 use uniphys_types::JointKind;
 
 use crate::partnet::RealCase;
-use crate::steps::{StepScores, print_steps, score_steps};
+use crate::steps::{StepScores, lost_at, print_steps, score_steps};
 
 /// A true part counts as recovered when its matched part has at least this IoU.
 const RECOVERED_IOU: f64 = 0.5;
@@ -71,6 +71,15 @@ pub(crate) fn bench_real(
             row.diagnosis = format!("one part: {reason}; {}", row.diagnosis);
         }
         steps.push(score_steps(case, &decomposition.steps));
+        let lost = lost_at(case, &decomposition.steps);
+        if !lost.is_empty() {
+            let by_step = format!("by step: {}", lost.join(", "));
+            row.diagnosis = if row.diagnosis.is_empty() {
+                by_step
+            } else {
+                format!("{}; {by_step}", row.diagnosis)
+            };
+        }
         let movable = movable_recovered(case, &row.stage.matching);
         println!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {}/{} | {:.2} |",

@@ -39,6 +39,36 @@ pub(crate) fn score_steps(case: &RealCase, steps: &[StepLabels]) -> StepScores {
         .collect()
 }
 
+/// Where each movable true part the stage missed in the end was lost: `"link_3 lost at merge"`
+/// (recovered after the step before), or `"link_4 never separated"`. Empty when every movable
+/// part was recovered or the steps were not kept.
+pub(crate) fn lost_at(case: &RealCase, steps: &[StepLabels]) -> Vec<String> {
+    let mesh = &case.asset.parts[0].mesh;
+    let areas: Vec<f64> = (0..mesh.triangle_count())
+        .map(|f| mesh.face_area(f))
+        .collect();
+    let history: Vec<(String, Vec<f64>)> = steps
+        .iter()
+        .filter_map(|s| {
+            let matching = match_parts(&compact(&s.face_part), &case.truth, &areas).ok()?;
+            Some((s.step.clone(), matching.iou))
+        })
+        .collect();
+    let Some((_, last)) = history.last() else {
+        return Vec::new();
+    };
+    (0..case.motion.len())
+        .filter(|&t| case.motion[t].is_some() && last[t] < RECOVERED_IOU)
+        .map(|t| {
+            let name = &case.part_names[t];
+            match history.iter().rposition(|(_, iou)| iou[t] >= RECOVERED_IOU) {
+                Some(i) => format!("{name} lost at {}", history[i + 1].0),
+                None => format!("{name} never separated"),
+            }
+        })
+        .collect()
+}
+
 /// Prints the table of the steps, summed over `objects`.
 pub(crate) fn print_steps(objects: &[StepScores]) {
     let mut order: Vec<String> = Vec::new();
