@@ -12,10 +12,10 @@ use uniphys_geometry::{TriMesh, connected_components};
 use uniphys_types::JointKind;
 
 use crate::partnet::RealCase;
-use crate::steps::{StepScores, lost_at, print_steps, score_steps};
+use crate::steps::{StepScores, lost_at, match_steps, print_steps, score_steps};
 
 /// A true part counts as recovered when its matched part has at least this IoU.
-const RECOVERED_IOU: f64 = 0.5;
+pub(crate) const RECOVERED_IOU: f64 = 0.5;
 
 /// The scores of one labelling of one object.
 struct Scored {
@@ -70,8 +70,9 @@ pub(crate) fn bench_real(
         if let Some(reason) = &decomposition.summary.one_part_reason {
             row.diagnosis = format!("one part: {reason}; {}", row.diagnosis);
         }
-        steps.push(score_steps(case, &decomposition.steps));
-        let lost = lost_at(case, &decomposition.steps);
+        let matched = match_steps(case, &decomposition.steps);
+        steps.push(score_steps(case, &matched));
+        let lost = lost_at(case, &matched);
         if !lost.is_empty() {
             let by_step = format!("by step: {}", lost.join(", "));
             row.diagnosis = if row.diagnosis.is_empty() {
@@ -166,7 +167,7 @@ fn best_merge(pieces: &[u32], truth: &[u32], areas: &[f64]) -> Vec<u32> {
 }
 
 /// The movable true parts with their joint kind and whether they were recovered.
-fn movable_recovered(case: &RealCase, matching: &PartMatching) -> Recovered {
+pub(crate) fn movable_recovered(case: &RealCase, matching: &PartMatching) -> Recovered {
     case.motion
         .iter()
         .zip(&matching.iou)

@@ -3,18 +3,18 @@
 
 use std::collections::BTreeMap;
 
-use uniphys_decompose::{StepLabels, match_parts};
+use uniphys_decompose::candidates::relabel_by_first_face;
+use uniphys_decompose::{PartMatching, StepLabels, match_parts};
 
 use crate::partnet::RealCase;
-
-/// A true part counts as recovered when its matched part has at least this IoU.
-const RECOVERED_IOU: f64 = 0.5;
+use crate::real::{RECOVERED_IOU, movable_recovered};
 
 /// One object's scores after each step: `(step, area IoU, movable recovered, movable)`.
 pub(crate) type StepScores = Vec<(String, f64, usize, usize)>;
 
-/// Scores `steps` of the stage on `case`; steps whose labels cannot be scored are left out.
-pub(crate) fn score_steps(case: &RealCase, steps: &[StepLabels]) -> StepScores {
+/// Every kept step of the stage on `case` matched to its true parts; steps whose labels cannot
+/// be matched are left out.
+pub(crate) fn match_steps(case: &RealCase, steps: &[StepLabels]) -> Vec<(String, PartMatching)> {
     let mesh = &case.asset.parts[0].mesh;
     let areas: Vec<f64> = (0..mesh.triangle_count())
         .map(|f| mesh.face_area(f))
@@ -22,47 +22,42 @@ pub(crate) fn score_steps(case: &RealCase, steps: &[StepLabels]) -> StepScores {
     steps
         .iter()
         .filter_map(|s| {
-            let matching = match_parts(&compact(&s.face_part), &case.truth, &areas).ok()?;
-            let movable: Vec<bool> = case
-                .motion
-                .iter()
-                .zip(&matching.iou)
-                .filter_map(|(kind, &iou)| kind.map(|_| iou >= RECOVERED_IOU))
-                .collect();
-            Some((
-                s.step.clone(),
+            let (labels, _) = relabel_by_first_face(&s.face_part);
+            let matching = match_parts(&labels, &case.truth, &areas).ok()?;
+            Some((s.step.clone(), matching))
+        })
+        .collect()
+}
+
+/// The scores of the matched steps (`matched`, from [`match_steps`]) of `case`.
+pub(crate) fn score_steps(case: &RealCase, matched: &[(String, PartMatching)]) -> StepScores {
+    matched
+        .iter()
+        .map(|(step, matching)| {
+            let movable = movable_recovered(case, matching);
+            (
+                step.clone(),
                 matching.area_iou(),
-                movable.iter().filter(|ok| **ok).count(),
+                movable.iter().filter(|(_, ok)| *ok).count(),
                 movable.len(),
-            ))
+            )
         })
         .collect()
 }
 
 /// Where each movable true part the stage missed in the end was lost: `"link_3 lost at merge"`
 /// (recovered after the step before), or `"link_4 never separated"`. Empty when every movable
-/// part was recovered or the steps were not kept.
-pub(crate) fn lost_at(case: &RealCase, steps: &[StepLabels]) -> Vec<String> {
-    let mesh = &case.asset.parts[0].mesh;
-    let areas: Vec<f64> = (0..mesh.triangle_count())
-        .map(|f| mesh.face_area(f))
-        .collect();
-    let history: Vec<(String, Vec<f64>)> = steps
-        .iter()
-        .filter_map(|s| {
-            let matching = match_parts(&compact(&s.face_part), &case.truth, &areas).ok()?;
-            Some((s.step.clone(), matching.iou))
-        })
-        .collect();
-    let Some((_, last)) = history.last() else {
+/// part was recovered or no step was matched (`matched`, from [`match_steps`]).
+pub(crate) fn lost_at(case: &RealCase, matched: &[(String, PartMatching)]) -> Vec<String> {
+    let Some((_, last)) = matched.last() else {
         return Vec::new();
     };
     (0..case.motion.len())
-        .filter(|&t| case.motion[t].is_some() && last[t] < RECOVERED_IOU)
+        .filter(|&t| case.motion[t].is_some() && last.iou[t] < RECOVERED_IOU)
         .map(|t| {
             let name = &case.part_names[t];
-            match history.iter().rposition(|(_, iou)| iou[t] >= RECOVERED_IOU) {
-                Some(i) => format!("{name} lost at {}", history[i + 1].0),
+            match matched.iter().rposition(|(_, m)| m.iou[t] >= RECOVERED_IOU) {
+                Some(i) => format!("{name} lost at {}", matched[i + 1].0),
                 None => format!("{name} never separated"),
             }
         })
@@ -96,16 +91,4 @@ pub(crate) fn print_steps(objects: &[StepScores]) {
             100.0 * hit as f64 / all.max(1) as f64
         );
     }
-}
-
-/// Labels renumbered `0..n` in order of first appearance.
-fn compact(labels: &[u32]) -> Vec<u32> {
-    let mut ids: BTreeMap<u32, u32> = BTreeMap::new();
-    labels
-        .iter()
-        .map(|l| {
-            let next = u32::try_from(ids.len()).unwrap_or(u32::MAX);
-            *ids.entry(*l).or_insert(next)
-        })
-        .collect()
 }
