@@ -73,6 +73,20 @@ impl Fixture {
             .expect("submit")
     }
 
+    /// Submits a one-stage job of the stand-in stage `slow` for content named `name` (no
+    /// source object: the stand-in does not read it).
+    async fn submit_slow(&self, name: &str) -> uniphys_queue::Submission {
+        let asset = NewAsset {
+            content_digest: format!("sha256:{name}"),
+            source_uri: format!("sources/{name}"),
+            size_bytes: 1,
+        };
+        self.store
+            .submit(self.tenant, &asset, &JobSpec::chain(&["slow"]))
+            .await
+            .expect("submit")
+    }
+
     fn start(
         &self,
         registry: StageRegistry,
@@ -319,16 +333,7 @@ async fn an_asset_with_its_own_parts_keeps_them() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn shutdown_releases_runs_that_outlive_the_grace_period() {
     let f = fixture().await;
-    let asset = NewAsset {
-        content_digest: "sha256:slow".into(),
-        source_uri: "sources/slow".into(),
-        size_bytes: 1,
-    };
-    let sub = f
-        .store
-        .submit(f.tenant, &asset, &JobSpec::chain(&["slow"]))
-        .await
-        .expect("submit");
+    let sub = f.submit_slow("slow").await;
     let registry = StageRegistry::stand_ins(&["slow"], Duration::from_secs(30));
     let (shutdown, handle) = f.start(registry, config(&[("slow", 1)]));
     let until = Instant::now() + Duration::from_secs(20);
@@ -359,16 +364,7 @@ async fn shutdown_releases_runs_that_outlive_the_grace_period() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn a_cancel_stops_the_running_stage_and_removes_what_it_wrote() {
     let f = fixture().await;
-    let asset = NewAsset {
-        content_digest: "sha256:cancelled".into(),
-        source_uri: "sources/cancelled".into(),
-        size_bytes: 1,
-    };
-    let sub = f
-        .store
-        .submit(f.tenant, &asset, &JobSpec::chain(&["slow"]))
-        .await
-        .expect("submit");
+    let sub = f.submit_slow("cancelled").await;
     // The stand-in writes its artifact first, then works for a minute.
     let registry = StageRegistry::stand_ins(&["slow"], Duration::from_secs(60));
     let (shutdown, handle) = f.start(registry, config(&[("slow", 1)]));

@@ -61,18 +61,23 @@ fn true_part_ious(mesh: &TriMesh, truth: &[u32], decomposition: &Decomposition) 
         .iou
 }
 
+/// The IoUs of the true parts moving on a joint of `kind`.
+fn ious_of_kind(motion: &[Option<JointKind>], ious: &[f64], kind: JointKind) -> Vec<f64> {
+    motion
+        .iter()
+        .zip(ious)
+        .filter(|(k, _)| **k == Some(kind))
+        .map(|(_, &iou)| iou)
+        .collect()
+}
+
 #[test]
 fn the_knobs_of_an_oven_are_parts_of_their_own() {
     // Eight knobs (continuous joints) on the control panel of an oven with a drawer. Before the
     // mesh's pieces were used, all eight vanished into the body.
     let (mesh, truth, motion, decomposition) = decomposed("kitchen-101921");
     let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let knobs: Vec<f64> = motion
-        .iter()
-        .zip(&ious)
-        .filter(|(kind, _)| **kind == Some(JointKind::Continuous))
-        .map(|(_, &iou)| iou)
-        .collect();
+    let knobs = ious_of_kind(&motion, &ious, JointKind::Continuous);
     assert_eq!(knobs.len(), 8);
     assert!(
         knobs.iter().all(|&iou| iou >= 0.5),
@@ -89,12 +94,7 @@ fn the_wheels_of_a_cart_are_not_merged_into_its_body() {
     // (0 of 4 recovered) until a round part was kept for the spin it can make.
     let (mesh, truth, motion, decomposition) = decomposed("kitchen-101090");
     let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let wheels: Vec<f64> = motion
-        .iter()
-        .zip(&ious)
-        .filter(|(kind, _)| **kind == Some(JointKind::Continuous))
-        .map(|(_, &iou)| iou)
-        .collect();
+    let wheels = ious_of_kind(&motion, &ious, JointKind::Continuous);
     assert_eq!(wheels.len(), 4);
     assert!(
         wheels.iter().all(|&iou| iou >= 0.5),
@@ -110,12 +110,7 @@ fn a_round_switch_welded_to_its_faucet_is_a_part_of_its_own() {
     // round part carved out of a piece that is not round about the same line was kept.
     let (mesh, truth, motion, decomposition) = decomposed("gensim2-1053");
     let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let switch: Vec<f64> = motion
-        .iter()
-        .zip(&ious)
-        .filter(|(kind, _)| **kind == Some(JointKind::Revolute))
-        .map(|(_, &iou)| iou)
-        .collect();
+    let switch = ious_of_kind(&motion, &ious, JointKind::Revolute);
     assert_eq!(switch.len(), 1);
     assert!(
         switch[0] >= 0.5,

@@ -69,10 +69,7 @@ pub async fn cancel_stops_unfinished_runs_and_fences_the_worker(backend: Backend
     // The other job is untouched and still runs.
     let next = t.claim_one(&worker("a"), "ingest", LONG_LEASE).await;
     assert_eq!(next.job_id, keep.job_id);
-    t.store
-        .complete(&next.lease, &json!({}), &StageCost::default())
-        .await
-        .expect("complete");
+    t.complete(&next).await;
     t.finish().await;
 }
 
@@ -84,10 +81,7 @@ pub async fn a_cancelled_job_is_retried_and_its_old_worker_stays_fenced(backend:
     let spec = JobSpec::chain(&["ingest", "ground", "export"]);
     let sub = t.submit(acme, "a", &spec).await;
     let first = t.claim_one(&worker("a"), "ingest", LONG_LEASE).await;
-    t.store
-        .complete(&first.lease, &json!({}), &StageCost::default())
-        .await
-        .expect("complete ingest");
+    t.complete(&first).await;
     let stale = t.claim_one(&worker("a"), "ground", LONG_LEASE).await;
     assert_eq!(
         t.store.cancel_job(acme, sub.job_id).await.expect("cancel"),
@@ -127,15 +121,9 @@ pub async fn a_cancelled_job_is_retried_and_its_old_worker_stays_fenced(backend:
     assert_eq!(err.kind(), QueueErrorKind::Fenced, "{err}");
     let fresh = t.claim_one(&worker("b"), "ground", LONG_LEASE).await;
     assert!(fresh.lease.attempt > stale.lease.attempt);
-    t.store
-        .complete(&fresh.lease, &json!({}), &StageCost::default())
-        .await
-        .expect("complete ground");
+    t.complete(&fresh).await;
     let last = t.claim_one(&worker("b"), "export", LONG_LEASE).await;
-    t.store
-        .complete(&last.lease, &json!({}), &StageCost::default())
-        .await
-        .expect("complete export");
+    t.complete(&last).await;
     let job = t.store.get_job(acme, sub.job_id).await.expect("job");
     assert_eq!(job.state, JobState::Succeeded);
     t.finish().await;

@@ -5,7 +5,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use sqlx::Connection;
 use uniphys_queue::{
-    Backend, ClaimedRun, JobId, JobSpec, NewAsset, QueueStore, RetryPolicy, StoreConfig,
+    Backend, ClaimedRun, JobId, JobSpec, NewAsset, QueueStore, RetryPolicy, StageCost, StoreConfig,
     Submission, TenantId, WorkerId,
 };
 
@@ -127,6 +127,14 @@ impl TestStore {
             .expect("claim");
         assert_eq!(runs.len(), 1, "expected one claimable {stage} run");
         runs.remove(0)
+    }
+
+    /// Completes the held `run` with an empty manifest, expecting it to be accepted.
+    pub async fn complete(&self, run: &ClaimedRun) {
+        self.store
+            .complete(&run.lease, &serde_json::json!({}), &StageCost::default())
+            .await
+            .unwrap_or_else(|e| panic!("complete {}: {e}", run.stage_name));
     }
 
     /// Claims up to `limit` runs of `stages`, returning their stage names in claim order.

@@ -2,10 +2,7 @@
 
 use std::time::Duration;
 
-use serde_json::json;
-use uniphys_queue::{
-    Backend, JobSpec, PurgeReport, QueueErrorKind, RetentionPolicy, StageCost, StageFailure,
-};
+use uniphys_queue::{Backend, JobSpec, PurgeReport, QueueErrorKind, RetentionPolicy, StageFailure};
 
 use crate::harness::{self, LONG_LEASE, NO_BACKOFF, worker};
 
@@ -17,10 +14,7 @@ pub async fn purge_removes_only_jobs_finished_before_the_retention(backend: Back
     let spec = JobSpec::chain(&["ingest"]);
     let done = t.submit(acme, "done", &spec).await;
     let run = t.claim_one(&worker("a"), "ingest", LONG_LEASE).await;
-    t.store
-        .complete(&run.lease, &json!({}), &StageCost::default())
-        .await
-        .expect("complete");
+    t.complete(&run).await;
     let cancelled = t.submit(acme, "cancelled", &spec).await;
     t.store
         .cancel_job(acme, cancelled.job_id)
