@@ -26,14 +26,11 @@ pub fn is_round(mesh: &TriMesh, faces: &[usize]) -> bool {
 /// of its principal directions through its samples' mean; `None` when it is round about none.
 #[must_use]
 pub fn round_axis(mesh: &TriMesh, faces: &[usize]) -> Option<(DVec3, DVec3)> {
-    let points = samples(mesh, faces);
-    if points.len() < 8 {
-        return None;
-    }
-    let centre = points.iter().sum::<DVec3>() / points.len() as f64;
-    principal_axes(&points)
+    let surface = Surface::of(mesh, faces)?;
+    let centre = surface.points.iter().sum::<DVec3>() / surface.points.len() as f64;
+    principal_axes(&surface.points)
         .into_iter()
-        .find(|&axis| round_about(mesh, faces, centre, axis))
+        .find(|&axis| surface.maps_onto_itself(centre, axis))
         .map(|axis| (centre, axis))
 }
 
@@ -42,26 +39,49 @@ pub fn round_axis(mesh: &TriMesh, faces: &[usize]) -> Option<(DVec3, DVec3)> {
 /// land within 3 % of its diagonal of its own surface.
 #[must_use]
 pub fn round_about(mesh: &TriMesh, faces: &[usize], centre: DVec3, axis: DVec3) -> bool {
-    let points = samples(mesh, faces);
-    if points.len() < 8 {
-        return false;
+    Surface::of(mesh, faces).is_some_and(|surface| surface.maps_onto_itself(centre, axis))
+}
+
+/// A part's samples and triangles, and how near a turned sample must land to its surface.
+struct Surface {
+    points: Vec<DVec3>,
+    triangles: Vec<[DVec3; 3]>,
+    tolerance2: f64,
+}
+
+impl Surface {
+    /// `None` for a part with too few samples to judge.
+    fn of(mesh: &TriMesh, faces: &[usize]) -> Option<Self> {
+        let points = samples(mesh, faces);
+        if points.len() < 8 {
+            return None;
+        }
+        let diagonal = uniphys_geometry::Aabb::from_points(&points).diagonal();
+        Some(Self {
+            triangles: faces.iter().map(|&f| mesh.corners(f)).collect(),
+            tolerance2: (ON_SURFACE_FRACTION * diagonal).powi(2),
+            points,
+        })
     }
-    let triangles: Vec<[DVec3; 3]> = faces.iter().map(|&f| mesh.corners(f)).collect();
-    let diagonal = uniphys_geometry::Aabb::from_points(&points).diagonal();
-    let tolerance2 = (ON_SURFACE_FRACTION * diagonal).powi(2);
-    TURNS_RAD.iter().all(|&angle| {
-        let turn = DQuat::from_axis_angle(axis, angle);
-        let kept = points
-            .iter()
-            .filter(|&&p| {
-                let q = centre + turn * (p - centre);
-                triangles
-                    .iter()
-                    .any(|t| closest_on_triangle(q, t).distance_squared(q) <= tolerance2)
-            })
-            .count();
-        kept as f64 >= KEPT_SHARE_MIN * points.len() as f64
-    })
+
+    /// Whether at every one of [`TURNS_RAD`] about the line through `centre` along `axis`, at
+    /// least [`KEPT_SHARE_MIN`] of the samples land on the surface.
+    fn maps_onto_itself(&self, centre: DVec3, axis: DVec3) -> bool {
+        TURNS_RAD.iter().all(|&angle| {
+            let turn = DQuat::from_axis_angle(axis, angle);
+            let kept = self
+                .points
+                .iter()
+                .filter(|&&p| {
+                    let q = centre + turn * (p - centre);
+                    self.triangles
+                        .iter()
+                        .any(|t| closest_on_triangle(q, t).distance_squared(q) <= self.tolerance2)
+                })
+                .count();
+            kept as f64 >= KEPT_SHARE_MIN * self.points.len() as f64
+        })
+    }
 }
 
 #[cfg(test)]
