@@ -3,7 +3,7 @@
 use serde_json::Value;
 
 use super::QueueStore;
-use crate::db::{DbRow, Sql, args};
+use crate::db::{DbRow, Session, Sql, args};
 use crate::{AssetId, JobId, JobSpec, QueueError, QueueResult, StageRunId, TenantId};
 
 /// An asset as stored.
@@ -51,6 +51,12 @@ static BACKLOG: Sql = Sql::new(
      WHERE tenant_id = $1 AND state IN ('blocked', 'ready', 'running')",
 );
 
+/// Unfinished stage runs of `tenant`, counted in `session` (a submission's transaction too).
+pub(super) async fn backlog_in(session: &mut Session, tenant: TenantId) -> QueueResult<u64> {
+    let row = session.fetch_one(&BACKLOG, args![tenant.0]).await?;
+    u64::try_from(row.i64("n")?).map_err(|_| QueueError::CorruptRow("negative count".into()))
+}
+
 fn asset_info(row: &DbRow) -> QueueResult<AssetInfo> {
     Ok(AssetInfo {
         id: AssetId(row.i64("id")?),
@@ -78,8 +84,7 @@ impl QueueStore {
     /// its backlog cap before accepting more work.
     pub async fn tenant_backlog(&self, tenant: TenantId) -> QueueResult<u64> {
         let mut session = self.db.read().await?;
-        let row = session.fetch_one(&BACKLOG, args![tenant.0]).await?;
-        u64::try_from(row.i64("n")?).map_err(|_| QueueError::CorruptRow("negative count".into()))
+        backlog_in(&mut session, tenant).await
     }
 
     /// Returns what a worker needs to run `run`: its asset, the job's trace context and the

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use serde_json::json;
 
 use super::QueueStore;
+use super::assets::backlog_in;
 use super::batches::{add_to_batch, validate_batch_label};
 use super::events::{self, EventSubject};
 use crate::db::{Session, Sql, args};
@@ -43,10 +44,6 @@ static INSERT_ASSET: Sql = Sql::new(
 );
 // Serialises a tenant's capped submissions (SQLite's writer is single already).
 static LOCK_TENANT: Sql = Sql::new("SELECT id FROM tenants WHERE id = $1 {for_update}");
-static BACKLOG: Sql = Sql::new(
-    "SELECT COUNT(*) AS n FROM stage_runs
-     WHERE tenant_id = $1 AND state IN ('blocked', 'ready', 'running')",
-);
 static FIND_ASSET: Sql =
     Sql::new("SELECT id FROM assets WHERE tenant_id = $1 AND content_digest = $2");
 static OWNED_ASSET: Sql = Sql::new("SELECT id FROM assets WHERE id = $1 AND tenant_id = $2");
@@ -208,9 +205,7 @@ async fn check_cap(
     cap: u64,
 ) -> QueueResult<()> {
     tx.fetch_optional(&LOCK_TENANT, args![tenant.0]).await?;
-    let row = tx.fetch_one(&BACKLOG, args![tenant.0]).await?;
-    let backlog = u64::try_from(row.i64("n")?)
-        .map_err(|_| QueueError::CorruptRow("negative count".into()))?;
+    let backlog = backlog_in(tx, tenant).await?;
     let adding = spec.stages.len() as u64;
     if backlog.saturating_add(adding) > cap {
         return Err(QueueError::BacklogFull {
