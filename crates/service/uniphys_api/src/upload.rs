@@ -32,37 +32,34 @@ pub(crate) struct Spooled {
 }
 
 /// Writes `body` to a new file in `dir` (or the system temp dir), hashing it on the way; the body
-/// is never held whole in memory. More than `max_bytes` answers 413 and leaves no file.
+/// is never held whole in memory. More than `max_bytes` answers 413, and no bytes for
+/// `pause_max` answers 408; either leaves no file.
 pub(crate) async fn spool_body(
     body: Body,
     dir: Option<PathBuf>,
     max_bytes: u64,
     pause_max: Duration,
 ) -> ApiResult<Spooled> {
-    let read_error = |e: axum::Error| {
-        ApiError::bad_request("invalid_body", format!("reading the upload failed: {e}"))
-    };
-    let stalled = |_| {
-        ApiError::RequestTimeout(format!(
+    let chunk_error = |e: Paced<axum::Error>| match e {
+        Paced::Stalled => ApiError::RequestTimeout(format!(
             "the upload stopped arriving: no bytes for {} s; send the body without pauses",
             pause_max.as_secs_f64()
-        ))
+        )),
+        Paced::Failed(e) => {
+            ApiError::bad_request("invalid_body", format!("reading the upload failed: {e}"))
+        }
     };
-    let chunks = body.into_data_stream();
     spool(
-        paced(chunks, pause_max),
+        paced(body.into_data_stream(), pause_max),
         dir,
         max_bytes,
-        |e: Paced<axum::Error>| match e {
-            Paced::Stalled => stalled(()),
-            Paced::Failed(e) => read_error(e),
-        },
+        chunk_error,
     )
     .await
 }
 
 /// A chunk error of a stream read with a pause limit: the stream's own, or no chunk in time.
-pub(crate) enum Paced<E> {
+enum Paced<E> {
     /// No chunk arrived within the limit.
     Stalled,
     /// The stream failed.
