@@ -53,13 +53,7 @@ pub(crate) fn in_plane_turn(
     touch_m: f64,
 ) -> Option<InPlaneTurn> {
     let axis = axis.normalize_or_zero();
-    if moving.len() < 3 || axis == DVec3::ZERO {
-        return None;
-    }
-    let part = PartBox::of(moving);
-    if !is_panel(&part) || !axis_across_panel(&part, axis) {
-        return None;
-    }
+    let part = panel_turned_across(moving, axis)?;
     let (one_side, both_sides) = probe_faces(scene, moving, still, axis, &part, touch_m);
     let probed = one_side + both_sides.len();
     Some(InPlaneTurn {
@@ -88,13 +82,9 @@ pub fn held_pivots(
 ) -> Vec<DVec3> {
     let axis = axis.normalize_or_zero();
     let points = scene.points_of(moving);
-    if points.len() < 3 || axis == DVec3::ZERO {
+    let Some(part) = panel_turned_across(&points, axis) else {
         return Vec::new();
-    }
-    let part = PartBox::of(&points);
-    if !is_panel(&part) || !axis_across_panel(&part, axis) {
-        return Vec::new();
-    }
+    };
     let still: Vec<usize> = (0..scene.part_count())
         .filter(|p| !moving.contains(p))
         .collect();
@@ -106,6 +96,16 @@ pub fn held_pivots(
     let mut out = vec![mean(&held)];
     out.extend(rounded_end_pivots(&held, axis, box_axes(&held)));
     out
+}
+
+/// The box of the moving group (sampled at `points`) when it is a panel and unit `axis` (zero
+/// for none) crosses its plane; `None` otherwise.
+fn panel_turned_across(points: &[DVec3], axis: DVec3) -> Option<PartBox> {
+    if points.len() < 3 || axis == DVec3::ZERO {
+        return None;
+    }
+    let part = PartBox::of(points);
+    (is_panel(&part) && axis_across_panel(&part, axis)).then_some(part)
 }
 
 /// Probes up to [`PROBE_SAMPLES_MAX`] of the panel's samples along `axis` both ways for a
