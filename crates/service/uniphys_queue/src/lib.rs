@@ -10,13 +10,15 @@
 //! - every transition of a running run is fenced on its [`Lease`] (run id, attempt): a stale
 //!   worker gets [`QueueError::LeaseLost`] and changes nothing;
 //! - [`QueueStore::complete`] records the output manifest, unblocks dependent stages and finishes
-//!   the job in one transaction;
+//!   the job in one transaction; [`QueueStore::complete_many`] does so for many runs with one
+//!   statement per step, and a [`Completer`] groups concurrent completions into such batches;
 //! - batches label sets of jobs for dataset statistics ([`QueueStore::submit_in_batch`]); the
 //!   dashboard's lists ([`QueueStore::list_work`]) read through indexes sized by the page;
 //! - all times come from the database clock, in Unix milliseconds (`*_at_ms`).
 //!
 //! Migrations live in the workspace's `migrations/{postgres,sqlite}/` and are embedded here.
 
+mod completer;
 mod config;
 mod db;
 mod error;
@@ -28,6 +30,7 @@ mod spec;
 mod state;
 mod store;
 
+pub use completer::{Completer, DEFAULT_COMPLETION_BATCH};
 pub use config::StoreConfig;
 pub use error::{QueueError, QueueErrorKind, QueueResult};
 pub use ids::{AssetId, JobId, StageRunId, TenantId, WorkerId};
@@ -36,9 +39,10 @@ pub use retry_policy::RetryPolicy;
 pub use spec::{DEFAULT_MAX_ATTEMPTS, JobSpec, StageSpec};
 pub use state::{JobState, StageState};
 pub use store::{
-    AssetInfo, Backend, BatchSummary, ClaimedRun, CompleteOutcome, ErrorRecord, FailOutcome,
-    FailureKind, JobDetail, JobEvent, JobFilter, JobSummary, Lease, MAX_BATCH_LABEL_CHARS,
-    MAX_MANIFEST_BYTES, MAX_TENANT_NAME_CHARS, NewAsset, PurgeReport, QueueStore, RecoveryReport,
-    RetentionPolicy, RunContext, RunRef, StageCost, StageFailure, StageRunInfo, StageStats,
-    Submission, TableHealth, WorkItem, validate_batch_label, validate_tenant_name,
+    AssetInfo, Backend, BatchSummary, ClaimedRun, CompleteOutcome, Completion, ErrorRecord,
+    FailOutcome, FailureKind, JobDetail, JobEvent, JobFilter, JobSummary, Lease,
+    MAX_BATCH_LABEL_CHARS, MAX_MANIFEST_BYTES, MAX_TENANT_NAME_CHARS, NewAsset, PurgeReport,
+    QueueStore, RecoveryReport, RetentionPolicy, RunContext, RunRef, StageCost, StageFailure,
+    StageRunInfo, StageStats, Submission, TableHealth, WorkItem, validate_batch_label,
+    validate_tenant_name,
 };

@@ -25,6 +25,12 @@ const POSTGRES: &[Embedded] = &[
         include_str!("../../../../migrations/postgres/0002_dashboard.up.sql"),
         include_str!("../../../../migrations/postgres/0002_dashboard.down.sql"),
     ),
+    (
+        3,
+        "claim_order",
+        include_str!("../../../../migrations/postgres/0003_claim_order.up.sql"),
+        include_str!("../../../../migrations/postgres/0003_claim_order.down.sql"),
+    ),
 ];
 
 const SQLITE: &[Embedded] = &[
@@ -39,6 +45,12 @@ const SQLITE: &[Embedded] = &[
         "dashboard",
         include_str!("../../../../migrations/sqlite/0002_dashboard.up.sql"),
         include_str!("../../../../migrations/sqlite/0002_dashboard.down.sql"),
+    ),
+    (
+        3,
+        "claim_order",
+        include_str!("../../../../migrations/sqlite/0003_claim_order.up.sql"),
+        include_str!("../../../../migrations/sqlite/0003_claim_order.down.sql"),
     ),
 ];
 

@@ -35,8 +35,9 @@ pub struct ClaimedRun {
     pub lease_expires_at_ms: i64,
 }
 
-// Ready, due and not paused; highest priority first, then oldest `run_after_ms` (when it became
-// runnable), then id. The attempt is counted here, so a run that kills its worker still uses up
+// Ready, due and not paused; highest priority first, then the oldest run (lowest id: runs are
+// made with their job, so a run put back after a crash or a backoff goes before work submitted
+// after it, not behind the whole backlog). The attempt is counted here, so a run that kills its worker still uses up
 // attempts. The pick is a materialized CTE: as an `IN (subquery)` Postgres may re-run it per row
 // and claim past the limit.
 //
@@ -49,32 +50,32 @@ static CLAIM: Sql = Sql::per_dialect(
     "WITH picked AS MATERIALIZED (
          SELECT c.id FROM unnest(CAST($1 AS TEXT[])) AS s(name)
          CROSS JOIN LATERAL (
-             SELECT id, priority, run_after_ms FROM stage_runs
+             SELECT id, priority FROM stage_runs
              WHERE state = 'ready' AND stage_name = s.name AND run_after_ms <= {now}
-             ORDER BY priority DESC, run_after_ms, id
+             ORDER BY priority DESC, id
              LIMIT $2
              FOR UPDATE SKIP LOCKED) AS c
          WHERE s.name NOT IN (SELECT stage_name FROM paused_stages)
-         ORDER BY c.priority DESC, c.run_after_ms, c.id
+         ORDER BY c.priority DESC, c.id
          LIMIT $2)
      UPDATE stage_runs
      SET state = 'running', attempt = attempt + 1, worker_id = $3,
          lease_expires_at_ms = {now} + $4, started_at_ms = {now}
      WHERE state = 'ready' AND id IN (SELECT id FROM picked)
      RETURNING id, job_id, tenant_id, asset_id, stage_name, attempt, max_attempts,
-               lease_expires_at_ms, priority, run_after_ms",
+               lease_expires_at_ms, priority",
     "WITH picked AS MATERIALIZED (
          SELECT id FROM stage_runs
          WHERE state = 'ready' AND stage_name {in_list_1} AND run_after_ms <= {now}
            AND stage_name NOT IN (SELECT stage_name FROM paused_stages)
-         ORDER BY priority DESC, run_after_ms, id
+         ORDER BY priority DESC, id
          LIMIT $2)
      UPDATE stage_runs
      SET state = 'running', attempt = attempt + 1, worker_id = $3,
          lease_expires_at_ms = {now} + $4, started_at_ms = {now}
      WHERE state = 'ready' AND id IN (SELECT id FROM picked)
      RETURNING id, job_id, tenant_id, asset_id, stage_name, attempt, max_attempts,
-               lease_expires_at_ms, priority, run_after_ms",
+               lease_expires_at_ms, priority",
 );
 
 static HEARTBEAT: Sql = Sql::new(
@@ -89,7 +90,8 @@ pub(super) fn millis(duration: Duration) -> i64 {
 
 impl QueueStore {
     /// Claims up to `limit` runnable stage runs of the named stages for `worker`, each leased for
-    /// `lease`. Returns them in claim order (priority, then age); empty when nothing is due.
+    /// `lease`. Returns them in claim order (priority, then the run's age); empty when nothing
+    /// is due.
     /// Runs of paused stages and retries still in their backoff are not claimed.
     pub async fn claim(
         &self,
@@ -135,12 +137,8 @@ impl QueueStore {
     }
 }
 
-fn claim_order(row: &DbRow) -> QueueResult<(std::cmp::Reverse<i64>, i64, i64)> {
-    Ok((
-        std::cmp::Reverse(row.i64("priority")?),
-        row.i64("run_after_ms")?,
-        row.i64("id")?,
-    ))
+fn claim_order(row: &DbRow) -> QueueResult<(std::cmp::Reverse<i64>, i64)> {
+    Ok((std::cmp::Reverse(row.i64("priority")?), row.i64("id")?))
 }
 
 fn claimed_run(row: &DbRow) -> QueueResult<ClaimedRun> {

@@ -1,13 +1,15 @@
-//! Completing a stage run: its output manifest, its cost, the stages it unblocks and, when it
-//! was the last, the job, all in one transaction.
+//! Completing stage runs: their output manifests, their cost, the stages they unblock and, for
+//! a job's last stage, the job, all in one transaction. Many runs complete in one transaction
+//! with one statement per step ([`QueueStore::complete_many`]); one run is a batch of one.
+
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
-use super::events::{self, EventSubject};
 use super::{QueueStore, RunRef, fencing};
-use crate::db::{Sql, args};
-use crate::{JobState, Lease, QueueError, QueueResult, StageRunId};
+use crate::db::{Session, Sql, args};
+use crate::{JobId, JobState, Lease, QueueError, QueueResult, StageRunId};
 
 /// Largest output manifest accepted, in bytes of JSON: manifests name artifacts (object keys and
 /// digests), they never carry them.
@@ -26,6 +28,17 @@ pub struct StageCost {
     pub usd_micros: u64,
 }
 
+/// One held run to mark succeeded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Completion {
+    /// The fencing token of the attempt that finished.
+    pub lease: Lease,
+    /// What the run wrote (at most [`MAX_MANIFEST_BYTES`] of JSON).
+    pub output_manifest: Value,
+    /// What it consumed.
+    pub cost: StageCost,
+}
+
 /// What completing a run changed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CompleteOutcome {
@@ -35,29 +48,102 @@ pub struct CompleteOutcome {
     pub job_succeeded: bool,
 }
 
-static SUCCEED: Sql = Sql::new(
-    "UPDATE stage_runs
-     SET state = 'succeeded', output_manifest = $3, cost = $4, finished_at_ms = {now},
-         lease_expires_at_ms = NULL
-     WHERE id = $1 AND attempt = $2 AND state = 'running'
-     RETURNING stage_name",
+// Statements take their lists as one JSON parameter, read with `jsonb_*` on Postgres and
+// `json_each` on SQLite, so a batch of any size is one statement per step.
+
+// The jobs of the runs, locked in id order (two batches never wait on each other in a cycle);
+// SQLite has one writer.
+static LOCK_JOBS: Sql = Sql::per_dialect(
+    "SELECT id FROM jobs
+     WHERE id IN (SELECT job_id FROM stage_runs
+                  WHERE id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1)))
+     ORDER BY id FOR UPDATE",
+    "SELECT id FROM jobs
+     WHERE id IN (SELECT job_id FROM stage_runs WHERE id IN (SELECT value FROM json_each($1)))",
 );
 
-// A dependent becomes ready when its last blocking dependency succeeds (SET reads old values).
-static UNBLOCK: Sql = Sql::new(
+static SUCCEED: Sql = Sql::per_dialect(
     "UPDATE stage_runs
-     SET blocking_deps = blocking_deps - 1,
-         state = CASE WHEN blocking_deps = 1 AND state = 'blocked' THEN 'ready' ELSE state END,
-         run_after_ms = CASE WHEN blocking_deps = 1 AND state = 'blocked' THEN {now} ELSE run_after_ms END
-     WHERE id IN (SELECT stage_run_id FROM stage_deps WHERE depends_on_id = $1)
+     SET state = 'succeeded', output_manifest = c.manifest, cost = c.cost,
+         finished_at_ms = {now}, lease_expires_at_ms = NULL
+     FROM jsonb_to_recordset($1)
+          AS c(run_id BIGINT, run_attempt BIGINT, manifest JSONB, cost JSONB)
+     WHERE id = c.run_id AND attempt = c.run_attempt AND state = 'running'
+     RETURNING id, job_id, stage_name, attempt",
+    "UPDATE stage_runs
+     SET state = 'succeeded', output_manifest = c.manifest, cost = c.cost,
+         finished_at_ms = {now}, lease_expires_at_ms = NULL
+     FROM (SELECT value ->> '$.run_id' AS run_id, value ->> '$.run_attempt' AS run_attempt,
+                  value -> '$.manifest' AS manifest, value -> '$.cost' AS cost
+           FROM json_each($1)) AS c
+     WHERE id = c.run_id AND attempt = c.run_attempt AND state = 'running'
+     RETURNING id, job_id, stage_name, attempt",
+);
+
+static DEPENDENTS: Sql = Sql::per_dialect(
+    "SELECT depends_on_id, stage_run_id FROM stage_deps
+     WHERE depends_on_id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1))",
+    "SELECT depends_on_id, stage_run_id FROM stage_deps
+     WHERE depends_on_id IN (SELECT value FROM json_each($1))",
+);
+
+// A dependent becomes ready when its last blocking dependencies succeed (SET reads old values).
+static UNBLOCK: Sql = Sql::per_dialect(
+    "UPDATE stage_runs
+     SET blocking_deps = blocking_deps - d.n,
+         state = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN 'ready' ELSE state END,
+         run_after_ms = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN {now}
+                        ELSE run_after_ms END
+     FROM (SELECT stage_run_id AS dependent, count(*) AS n FROM stage_deps
+           WHERE depends_on_id IN (SELECT CAST(value AS BIGINT)
+                                   FROM jsonb_array_elements_text($1))
+           GROUP BY stage_run_id) AS d
+     WHERE id = d.dependent
+     RETURNING id, stage_name, state",
+    "UPDATE stage_runs
+     SET blocking_deps = blocking_deps - d.n,
+         state = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN 'ready' ELSE state END,
+         run_after_ms = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN {now}
+                        ELSE run_after_ms END
+     FROM (SELECT stage_run_id AS dependent, count(*) AS n FROM stage_deps
+           WHERE depends_on_id IN (SELECT value FROM json_each($1))
+           GROUP BY stage_run_id) AS d
+     WHERE id = d.dependent
      RETURNING id, stage_name, state",
 );
 
-static FINISH_JOB: Sql = Sql::new(
+static FINISH_JOBS: Sql = Sql::per_dialect(
     "UPDATE jobs SET state = 'succeeded', finished_at_ms = {now}
-     WHERE id = $1 AND state = 'running'
-       AND NOT EXISTS (SELECT 1 FROM stage_runs WHERE job_id = $1 AND state <> 'succeeded')",
+     WHERE id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1))
+       AND state = 'running'
+       AND NOT EXISTS (SELECT 1 FROM stage_runs s WHERE s.job_id = jobs.id AND s.state <> 'succeeded')
+     RETURNING id",
+    "UPDATE jobs SET state = 'succeeded', finished_at_ms = {now}
+     WHERE id IN (SELECT value FROM json_each($1))
+       AND state = 'running'
+       AND NOT EXISTS (SELECT 1 FROM stage_runs s WHERE s.job_id = jobs.id AND s.state <> 'succeeded')
+     RETURNING id",
 );
+
+// Events in the order given (`seq`), so a stage's success precedes its job's.
+static RECORD_EVENTS: Sql = Sql::per_dialect(
+    "INSERT INTO events (job_id, stage_run_id, stage_name, kind, attempt, detail, at_ms)
+     SELECT e.job_id, e.stage_run_id, e.stage_name, e.kind, e.attempt, e.detail, {now}
+     FROM jsonb_to_recordset($1) AS e(seq BIGINT, job_id BIGINT, stage_run_id BIGINT,
+                                      stage_name TEXT, kind TEXT, attempt BIGINT, detail JSONB)
+     ORDER BY e.seq",
+    "INSERT INTO events (job_id, stage_run_id, stage_name, kind, attempt, detail, at_ms)
+     SELECT value ->> '$.job_id', value ->> '$.stage_run_id', value ->> '$.stage_name',
+            value ->> '$.kind', value ->> '$.attempt', value -> '$.detail', {now}
+     FROM json_each($1) ORDER BY value ->> '$.seq'",
+);
+
+/// A run the batch marked succeeded.
+struct Succeeded {
+    job: JobId,
+    stage_name: String,
+    attempt: u32,
+}
 
 impl QueueStore {
     /// Marks the held run succeeded with its output manifest and cost, makes the stages that
@@ -70,60 +156,195 @@ impl QueueStore {
         output_manifest: &Value,
         cost: &StageCost,
     ) -> QueueResult<CompleteOutcome> {
-        let manifest_bytes = output_manifest.to_string().len();
-        if manifest_bytes > MAX_MANIFEST_BYTES {
-            return Err(QueueError::Invalid(format!(
-                "output manifest of {manifest_bytes} bytes exceeds {MAX_MANIFEST_BYTES}: store artifacts, not data"
-            )));
-        }
-        let mut tx = self.db.write_tx().await?;
-        let (job, _) = fencing::lock_job_of_run(&mut tx, lease.run_id).await?;
-        let cost_json =
-            serde_json::to_value(cost).map_err(|e| QueueError::Invalid(e.to_string()))?;
-        let Some(row) = tx
-            .fetch_optional(
-                &SUCCEED,
-                args![
-                    lease.run_id.0,
-                    i64::from(lease.attempt),
-                    output_manifest.clone(),
-                    cost_json
-                ],
-            )
-            .await?
-        else {
-            return Err(fencing::lease_error(&mut tx, lease).await);
+        let completion = Completion {
+            lease: *lease,
+            output_manifest: output_manifest.clone(),
+            cost: cost.clone(),
         };
-        let stage_name = row.text("stage_name")?;
-
-        let mut unblocked = Vec::new();
-        for row in tx.fetch_all(&UNBLOCK, args![lease.run_id.0]).await? {
-            if row.text("state")? == "ready" {
-                unblocked.push(RunRef {
-                    run_id: StageRunId(row.i64("id")?),
-                    stage_name: row.text("stage_name")?,
-                });
-            }
-        }
-        unblocked.sort_by_key(|r| r.run_id);
-        let job_succeeded = tx.execute(&FINISH_JOB, args![job.0]).await? > 0;
-
-        let subject = EventSubject {
-            job,
-            run: Some((lease.run_id, &stage_name)),
-            attempt: Some(lease.attempt),
-        };
-        let detail =
-            json!({ "unblocked": unblocked.iter().map(|r| &r.stage_name).collect::<Vec<_>>() });
-        events::record(&mut tx, &subject, "stage_succeeded", Some(detail)).await?;
-        if job_succeeded {
-            let kind = format!("job_{}", JobState::Succeeded);
-            events::record(&mut tx, &EventSubject::job(job), &kind, None).await?;
-        }
-        tx.commit().await?;
-        Ok(CompleteOutcome {
-            unblocked,
-            job_succeeded,
+        let mut results = self
+            .complete_many(std::slice::from_ref(&completion))
+            .await?;
+        results.pop().unwrap_or_else(|| {
+            Err(QueueError::CorruptRow(
+                "a completion gave no result".to_owned(),
+            ))
         })
     }
+
+    /// Completes many held runs in one transaction, with one statement per step for the whole
+    /// batch (the runs, their dependents, their jobs, their events); each run as
+    /// [`Self::complete`] would. Returns one result per completion, in order: a lease that is
+    /// no longer current (`LeaseLost`, `Cancelled`) or an oversized manifest (`Invalid`) fails
+    /// that completion alone. The outer error means the transaction failed and nothing was
+    /// recorded. A job whose last runs complete in one batch is reported succeeded on the last
+    /// of them.
+    pub async fn complete_many(
+        &self,
+        completions: &[Completion],
+    ) -> QueueResult<Vec<QueueResult<CompleteOutcome>>> {
+        let mut results: Vec<Option<QueueResult<CompleteOutcome>>> = completions
+            .iter()
+            .map(|c| oversized(&c.output_manifest).map(Err))
+            .collect();
+        let batch: Vec<&Completion> = completions
+            .iter()
+            .zip(&results)
+            .filter(|(_, r)| r.is_none())
+            .map(|(c, _)| c)
+            .collect();
+        if batch.is_empty() {
+            return Ok(results.into_iter().flatten().collect());
+        }
+        let mut tx = self.db.write_tx().await?;
+        let run_ids = json!(batch.iter().map(|c| c.lease.run_id.0).collect::<Vec<_>>());
+        tx.fetch_all(&LOCK_JOBS, args![run_ids.clone()]).await?;
+        let rows = batch
+            .iter()
+            .map(|c| {
+                Ok(json!({
+                    "run_id": c.lease.run_id.0,
+                    "run_attempt": c.lease.attempt,
+                    "manifest": c.output_manifest,
+                    "cost": serde_json::to_value(&c.cost)
+                        .map_err(|e| QueueError::Invalid(e.to_string()))?,
+                }))
+            })
+            .collect::<QueueResult<Vec<Value>>>()?;
+        let mut succeeded: HashMap<StageRunId, Succeeded> = HashMap::new();
+        for row in tx.fetch_all(&SUCCEED, args![Value::Array(rows)]).await? {
+            succeeded.insert(
+                StageRunId(row.i64("id")?),
+                Succeeded {
+                    job: JobId(row.i64("job_id")?),
+                    stage_name: row.text("stage_name")?,
+                    attempt: row.u32("attempt")?,
+                },
+            );
+        }
+        let unblocked = unblock(&mut tx, &succeeded).await?;
+        let jobs: BTreeSet<JobId> = succeeded.values().map(|s| s.job).collect();
+        let finished: HashSet<JobId> = if jobs.is_empty() {
+            HashSet::new()
+        } else {
+            let ids = json!(jobs.iter().map(|j| j.0).collect::<Vec<_>>());
+            tx.fetch_all(&FINISH_JOBS, args![ids])
+                .await?
+                .iter()
+                .map(|row| Ok(JobId(row.i64("id")?)))
+                .collect::<QueueResult<_>>()?
+        };
+
+        // One result per completion in order: the one whose attempt the update matched succeeds (a
+        // run listed twice succeeds once); the others are explained by their lease.
+        let last_of_job: HashMap<JobId, usize> = batch
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| {
+                succeeded
+                    .get(&c.lease.run_id)
+                    .filter(|s| s.attempt == c.lease.attempt)
+                    .map(|s| (s.job, i))
+            })
+            .collect();
+        let mut reported = HashSet::new();
+        let mut events = Vec::new();
+        let mut outcomes = Vec::with_capacity(batch.len());
+        for (i, c) in batch.iter().enumerate() {
+            let run = c.lease.run_id;
+            let Some(done) = succeeded
+                .get(&run)
+                .filter(|s| s.attempt == c.lease.attempt && reported.insert(run))
+            else {
+                outcomes.push(Err(fencing::lease_error(&mut tx, &c.lease).await));
+                continue;
+            };
+            let next = unblocked.get(&run).cloned().unwrap_or_default();
+            let job_succeeded =
+                finished.contains(&done.job) && last_of_job.get(&done.job) == Some(&i);
+            events.push(json!({
+                "job_id": done.job.0, "stage_run_id": run.0, "stage_name": done.stage_name,
+                "kind": "stage_succeeded", "attempt": c.lease.attempt,
+                "detail": { "unblocked": next.iter().map(|r| &r.stage_name).collect::<Vec<_>>() },
+            }));
+            if job_succeeded {
+                events.push(json!({
+                    "job_id": done.job.0, "kind": format!("job_{}", JobState::Succeeded),
+                }));
+            }
+            outcomes.push(Ok(CompleteOutcome {
+                unblocked: next,
+                job_succeeded,
+            }));
+        }
+        if !events.is_empty() {
+            for (seq, event) in events.iter_mut().enumerate() {
+                event["seq"] = json!(seq);
+            }
+            tx.execute(&RECORD_EVENTS, args![Value::Array(events)])
+                .await?;
+        }
+        tx.commit().await?;
+        let mut outcomes = outcomes.into_iter();
+        Ok(results
+            .iter_mut()
+            .map(|r| r.take().or_else(|| outcomes.next()))
+            .collect::<Option<Vec<_>>>()
+            .ok_or_else(|| QueueError::CorruptRow("a completion lost its result".to_owned()))?)
+    }
+}
+
+/// The error for a manifest over [`MAX_MANIFEST_BYTES`].
+fn oversized(manifest: &Value) -> Option<QueueError> {
+    let bytes = manifest.to_string().len();
+    (bytes > MAX_MANIFEST_BYTES).then(|| {
+        QueueError::Invalid(format!(
+            "output manifest of {bytes} bytes exceeds {MAX_MANIFEST_BYTES}: store artifacts, not data"
+        ))
+    })
+}
+
+/// Counts the succeeded runs off their dependents' blocking dependencies; returns, per succeeded
+/// run, the dependents that became claimable (a dependent of several runs of the batch is listed
+/// under each), sorted by id.
+async fn unblock(
+    tx: &mut Session,
+    succeeded: &HashMap<StageRunId, Succeeded>,
+) -> QueueResult<HashMap<StageRunId, Vec<RunRef>>> {
+    let mut by_run: HashMap<StageRunId, Vec<RunRef>> = HashMap::new();
+    if succeeded.is_empty() {
+        return Ok(by_run);
+    }
+    let ids = json!(succeeded.keys().map(|r| r.0).collect::<Vec<_>>());
+    let mut edges = Vec::new();
+    for row in tx.fetch_all(&DEPENDENTS, args![ids.clone()]).await? {
+        edges.push((
+            StageRunId(row.i64("depends_on_id")?),
+            StageRunId(row.i64("stage_run_id")?),
+        ));
+    }
+    if edges.is_empty() {
+        return Ok(by_run);
+    }
+    let mut ready = HashMap::new();
+    for row in tx.fetch_all(&UNBLOCK, args![ids]).await? {
+        if row.text("state")? == "ready" {
+            let run_id = StageRunId(row.i64("id")?);
+            ready.insert(
+                run_id,
+                RunRef {
+                    run_id,
+                    stage_name: row.text("stage_name")?,
+                },
+            );
+        }
+    }
+    for (upstream, dependent) in edges {
+        if let Some(r) = ready.get(&dependent) {
+            by_run.entry(upstream).or_default().push(r.clone());
+        }
+    }
+    for list in by_run.values_mut() {
+        list.sort_by_key(|r| r.run_id);
+    }
+    Ok(by_run)
 }

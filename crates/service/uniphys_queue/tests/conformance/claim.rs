@@ -198,3 +198,32 @@ pub async fn claims_only_take_the_named_stages(backend: Backend) {
     );
     t.finish().await;
 }
+
+pub async fn a_recovered_run_is_claimed_before_newer_work(backend: Backend) {
+    let Some(t) = harness::open(backend, NO_BACKOFF).await else {
+        return;
+    };
+    let acme = t.tenant("acme").await;
+    let spec = JobSpec::chain(&["ingest"]);
+    let old = t.submit(acme, "old", &spec).await;
+    let dying = t
+        .claim_one(&worker("dies"), "ingest", Duration::from_millis(300))
+        .await;
+    assert_eq!(dying.job_id, old.job_id);
+    // Work submitted after the old job, waiting while the old run's worker dies.
+    let newer = t.submit(acme, "newer", &spec).await;
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    let report = t.store.recover_expired_leases(10).await.expect("recover");
+    assert_eq!(report.requeued, 1);
+    let order: Vec<_> = [
+        t.claim_one(&worker("a"), "ingest", LONG_LEASE).await.job_id,
+        t.claim_one(&worker("a"), "ingest", LONG_LEASE).await.job_id,
+    ]
+    .into();
+    assert_eq!(
+        order,
+        [old.job_id, newer.job_id],
+        "the rescued run goes first, not behind work that became ready before it was put back"
+    );
+    t.finish().await;
+}

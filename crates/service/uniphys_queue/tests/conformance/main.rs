@@ -5,6 +5,7 @@
 
 mod harness;
 
+mod batch_complete;
 mod claim;
 mod control;
 mod dag;
@@ -50,6 +51,10 @@ conformance!(
     claim::claim_counts_the_attempt_and_sets_the_lease,
     claim::claims_follow_priority_then_age,
     claim::claims_only_take_the_named_stages,
+    claim::a_recovered_run_is_claimed_before_newer_work,
+    batch_complete::a_batch_completes_each_run_and_fences_the_stale_one,
+    batch_complete::a_job_whose_last_runs_share_a_batch_succeeds_once,
+    batch_complete::the_completer_answers_every_concurrent_completion,
     fencing::a_reclaimed_run_rejects_the_stale_worker,
     fencing::heartbeat_keeps_the_lease_alive,
     fencing::completing_twice_is_refused,
