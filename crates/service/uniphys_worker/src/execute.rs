@@ -169,7 +169,7 @@ async fn finish(
             let value = manifest.to_value();
             let cost = StageCost::default();
             let done = retry_db(shared, "complete the run", || {
-                shared.store.complete(&run.lease, &value, &cost)
+                shared.completer.complete(&run.lease, &value, &cost)
             })
             .await;
             return match done {

@@ -12,7 +12,7 @@ use tokio::task::JoinSet;
 use tokio_util::sync::CancellationToken;
 use tracing::{info, warn};
 use uniphys_hints::{Hints, Wake};
-use uniphys_queue::{QueueStore, WorkerId};
+use uniphys_queue::{Completer, DEFAULT_COMPLETION_BATCH, QueueStore, WorkerId};
 use uniphys_storage::ArtifactStore;
 use uniphys_telemetry::Metrics;
 
@@ -25,6 +25,8 @@ use crate::{WorkerError, WorkerResult};
 pub(crate) struct Shared {
     pub(crate) id: WorkerId,
     pub(crate) store: QueueStore,
+    /// Writes the runs' completions, many per transaction when many finish together.
+    pub(crate) completer: Completer,
     pub(crate) artifacts: ArtifactStore,
     pub(crate) hints: Hints,
     pub(crate) metrics: Metrics,
@@ -56,7 +58,8 @@ pub fn fresh_worker_id() -> WorkerId {
 }
 
 impl Worker {
-    /// A worker running `registry`'s stages as `config` says, with a fresh id.
+    /// A worker running `registry`'s stages as `config` says, with a fresh id. Call it within a
+    /// tokio runtime: it starts the task that writes completions in batches.
     pub fn new(
         store: QueueStore,
         artifacts: ArtifactStore,
@@ -80,6 +83,7 @@ impl Worker {
         Ok(Self {
             shared: Arc::new(Shared {
                 id: fresh_worker_id(),
+                completer: Completer::spawn(store.clone(), DEFAULT_COMPLETION_BATCH),
                 store,
                 artifacts,
                 hints,
