@@ -1,10 +1,10 @@
 //! Group commit of completions: many workers' [`Completer::complete`] calls share one
 //! transaction ([`QueueStore::complete_many`]).
 //!
-//! A background task takes every completion waiting when it is free (up to `max_batch`) and
-//! writes them together; completions that arrive while a batch is written form the next one.
-//! An idle queue pays no wait (a lone completion is written at once); a busy one writes fewer,
-//! larger transactions. Fencing is unchanged: each completion gets its own result.
+//! A background task takes every completion waiting when it is free (up to `max_batch`), yields
+//! once so that completions made at the same moment join them, and writes them together;
+//! completions that arrive while a batch is written form the next one. An idle queue pays no
+//! timer (a lone completion is written at once); a busy one writes fewer, larger transactions. Fencing is unchanged: each completion gets its own result.
 
 use serde_json::Value;
 use tokio::sync::{mpsc, oneshot};
@@ -67,6 +67,17 @@ async fn write_batches(
 ) {
     let mut batch: Vec<Request> = Vec::with_capacity(max_batch);
     while inbox.recv_many(&mut batch, max_batch).await > 0 {
+        // Completions made together (a claimed batch finishing at once) wake this task at the
+        // first of them: let the rest be sent before writing.
+        if batch.len() < max_batch {
+            tokio::task::yield_now().await;
+            while batch.len() < max_batch {
+                match inbox.try_recv() {
+                    Ok(request) => batch.push(request),
+                    Err(_) => break,
+                }
+            }
+        }
         let (completions, replies): (Vec<Completion>, Vec<_>) = batch.drain(..).unzip();
         match store.complete_many(&completions).await {
             Ok(results) => {

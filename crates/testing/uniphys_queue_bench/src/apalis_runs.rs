@@ -1,7 +1,7 @@
 //! The apalis side: apalis 1.0 workers (`WorkerBuilder` … `.build(noop)`) on apalis-postgres 1.0
-//! storages, one worker per concurrent worker, each fetching one task at a time
-//! (`Config::batch_size(1)`, the counterpart of `claim` with limit 1), with apalis's defaults
-//! otherwise (tasks locked while they run, results persisted). apalis-postgres keeps its tables in
+//! storages, one worker per concurrent worker, each fetching up to `batch` tasks at a time
+//! (`Config::batch_size`; apalis's default is 10) and acknowledging them in batches, with
+//! apalis's defaults otherwise (tasks locked while they run, results persisted). apalis-postgres keeps its tables in
 //! its own `apalis` schema (created by `PostgresStorage::setup`); each measurement uses a fresh
 //! queue name and deletes its rows afterwards.
 
@@ -78,10 +78,11 @@ struct Scratch {
     url: String,
     pool: PgPool,
     queue: String,
+    batch: usize,
 }
 
 impl Scratch {
-    async fn create(url: &str, pool_size: u32) -> anyhow::Result<Self> {
+    async fn create(url: &str, pool_size: u32, batch: u32) -> anyhow::Result<Self> {
         static NEXT: AtomicU32 = AtomicU32::new(0);
         let pool = PgPoolOptions::new()
             .max_connections(pool_size)
@@ -97,12 +98,13 @@ impl Scratch {
             url: url.to_owned(),
             pool,
             queue,
+            batch: usize::try_from(batch.max(1)).unwrap_or(1),
         })
     }
 
     fn storage(&self) -> PostgresStorage<u64> {
         PostgresStorage::new(&self.pool)
-            .with_config(Config::default().queue(&self.queue).batch_size(1))
+            .with_config(Config::default().queue(&self.queue).batch_size(self.batch))
     }
 
     /// Starts `workers` workers running [`noop`]; stop them through the returned contexts.
@@ -112,14 +114,18 @@ impl Scratch {
         wakeup: Wakeup,
         poll: Duration,
         recorder: &Arc<Recorder>,
-    ) -> (Vec<WorkerContext>, Vec<JoinHandle<anyhow::Result<()>>>) {
+    ) -> anyhow::Result<(Vec<WorkerContext>, Vec<JoinHandle<anyhow::Result<()>>>)> {
+        ensure!(
+            wakeup != Wakeup::Doorbell,
+            "apalis has no doorbell of ours; measure it polling or with LISTEN/NOTIFY"
+        );
         let mut contexts = Vec::new();
         let mut handles = Vec::new();
         for w in 0..workers {
             let context = WorkerContext::new(&format!("{}-w{w}", self.queue));
             let builder = WorkerBuilder::new(&context);
             let handle = match wakeup {
-                Wakeup::Poll => {
+                Wakeup::Poll | Wakeup::Doorbell => {
                     let worker = builder
                         .backend(self.storage().poll_with_interval(poll))
                         .data(Arc::clone(recorder))
@@ -147,7 +153,7 @@ impl Scratch {
             contexts.push(context);
             handles.push(handle);
         }
-        (contexts, handles)
+        Ok((contexts, handles))
     }
 
     /// Closes the pool, then on a fresh connection fails unless all `jobs` tasks of the queue are
@@ -211,16 +217,17 @@ async fn stop(
     Ok(aborted)
 }
 
-/// Pre-enqueues `jobs` tasks, then times `workers` workers running them all (until every worker
-/// flushed its acknowledgements and returned).
+/// Pre-enqueues `jobs` tasks, then times `workers` workers fetching up to `batch` at a time
+/// running them all (until every worker flushed its acknowledgements and returned).
 pub(crate) async fn throughput(
     url: &str,
     workers: u32,
     jobs: u32,
+    batch: u32,
     wakeup: Wakeup,
     poll: Duration,
 ) -> anyhow::Result<ThroughputRun> {
-    let scratch = Scratch::create(url, workers + 2).await?;
+    let scratch = Scratch::create(url, workers + 2, batch).await?;
     scratch
         .storage()
         .push_bulk((0..u64::from(jobs)).collect())
@@ -228,7 +235,7 @@ pub(crate) async fn throughput(
     let recorder = Recorder::new(jobs);
 
     let started = Instant::now();
-    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder);
+    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder)?;
     recorder.wait_all().await?;
     let aborted = stop(&contexts, handles).await?;
     let elapsed = started.elapsed();
@@ -257,9 +264,9 @@ pub(crate) async fn latency(
     wakeup: Wakeup,
     poll: Duration,
 ) -> anyhow::Result<LatencyRun> {
-    let scratch = Scratch::create(url, workers + 2).await?;
+    let scratch = Scratch::create(url, workers + 2, 1).await?;
     let recorder = Recorder::new(jobs);
-    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder);
+    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder)?;
 
     tokio::time::sleep(WARM_UP).await;
     let mut sink = scratch.storage();

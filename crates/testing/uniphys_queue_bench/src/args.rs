@@ -13,8 +13,15 @@ pub(crate) struct BenchArgs {
     #[arg(long, default_value_t = 2000)]
     pub jobs: u32,
     /// Worker counts of the throughput measurements.
-    #[arg(long, value_delimiter = ',', default_values_t = [1_u32, 4, 16])]
+    #[arg(long, value_delimiter = ',', default_values_t = [1_u32, 4, 16, 64])]
     pub workers: Vec<u32>,
+    /// Runs a worker fetches at once in the throughput measurements, both systems (apalis's
+    /// default `batch_size` is 10; the UniPhys worker claims as many runs as it has free slots).
+    #[arg(long, default_value_t = 10)]
+    pub batch: u32,
+    /// Redis for the UniPhys doorbell's latency row (left out without one).
+    #[arg(long, env = "UNIPHYS_TEST_REDIS_URL")]
+    pub redis_url: Option<String>,
     /// Jobs per latency measurement, submitted one at a time to an idle queue.
     #[arg(long, default_value_t = 500)]
     pub latency_jobs: u32,

@@ -20,6 +20,7 @@ mod exactly_once_test;
 use std::time::Duration;
 
 use clap::Parser as _;
+use uniphys_hints::Hints;
 
 use crate::args::BenchArgs;
 use crate::measure::{Wakeup, check_exactly_once};
@@ -39,24 +40,54 @@ async fn main() -> anyhow::Result<()> {
     let mut throughput = Vec::new();
     for &workers in &args.workers {
         eprintln!("queue-bench: throughput with {workers} workers");
-        let ours = uniphys_runs::throughput(url, workers, args.jobs).await?;
+        let ours = uniphys_runs::throughput(url, workers, args.jobs, args.batch).await?;
         check_exactly_once(&ours.executed, args.jobs, "uniphys throughput")?;
         throughput.push(ours);
-        let theirs =
-            apalis_runs::throughput(url, workers, args.jobs, Wakeup::PollRearmed, poll).await?;
+        let theirs = apalis_runs::throughput(
+            url,
+            workers,
+            args.jobs,
+            args.batch,
+            Wakeup::PollRearmed,
+            poll,
+        )
+        .await?;
         check_exactly_once(&theirs.executed, args.jobs, "apalis throughput")?;
         throughput.push(theirs);
     }
     println!(
-        "No-op stage transitions (claim + complete, one task per fetch) per second, {} pre-enqueued \
-         one-stage jobs per run:\n",
-        args.jobs
+        "No-op stage transitions (claim + complete) per second, each worker fetching up to {} at a \
+         time, {} pre-enqueued one-stage jobs per run:\n",
+        args.batch, args.jobs
     );
     println!("{}", report::throughput_table(&throughput));
 
-    let ours =
-        uniphys_runs::latency(url, args.latency_workers, args.latency_jobs, gap, poll).await?;
-    let mut latency = vec![ours];
+    let mut latency = vec![
+        uniphys_runs::latency(
+            url,
+            args.latency_workers,
+            args.latency_jobs,
+            gap,
+            poll,
+            None,
+        )
+        .await?,
+    ];
+    if let Some(redis_url) = &args.redis_url {
+        eprintln!("queue-bench: uniphys latency, Redis doorbell");
+        let hints = Hints::redis(redis_url, &format!("queue-bench-{}", std::process::id()))?;
+        latency.push(
+            uniphys_runs::latency(
+                url,
+                args.latency_workers,
+                args.latency_jobs,
+                gap,
+                poll,
+                Some(&hints),
+            )
+            .await?,
+        );
+    }
     for wakeup in [Wakeup::Poll, Wakeup::PollRearmed, Wakeup::Notify] {
         eprintln!("queue-bench: apalis latency, {}", wakeup.name(args.poll_ms));
         latency.push(

@@ -36,6 +36,9 @@ pub(crate) enum Wakeup {
     PollRearmed,
     /// apalis only: PostgreSQL `LISTEN/NOTIFY` (apalis-postgres `with_pubsub`).
     Notify,
+    /// UniPhys only: the service's doorbell (Redis PUBLISH, rung after submit), polling
+    /// `poll_ms` as the fallback.
+    Doorbell,
 }
 
 impl Wakeup {
@@ -44,6 +47,7 @@ impl Wakeup {
             Self::Poll => format!("poll {poll_ms} ms"),
             Self::PollRearmed => format!("poll {poll_ms} ms, re-arming timer"),
             Self::Notify => "LISTEN/NOTIFY".to_owned(),
+            Self::Doorbell => format!("Redis doorbell, poll {poll_ms} ms"),
         }
     }
 }

@@ -1,5 +1,8 @@
-//! The UniPhys queue's side: workers are tokio tasks looping `claim` (limit 1) → `complete`
-//! (empty manifest) on one-stage `noop` jobs, each job submitted with its own asset.
+//! The UniPhys queue's side: workers are tokio tasks looping `claim` (up to the batch size) →
+//! `complete` of each claimed run through one shared [`Completer`] (empty manifests), as the
+//! service's worker does, on one-stage `noop` jobs, each job submitted with its own asset.
+//! Latency is measured with the workers polling, and with them woken by the service's doorbell
+//! (`uniphys_hints` on Redis, rung after each submit as the API does).
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -9,8 +12,11 @@ use std::time::{Duration, Instant};
 use anyhow::{Context as _, ensure};
 use serde_json::json;
 use sqlx::Connection as _;
+use tokio::task::JoinSet;
+use uniphys_hints::{Hints, Wake};
 use uniphys_queue::{
-    JobId, JobSpec, NewAsset, QueueStore, StageCost, StoreConfig, TenantId, WorkerId,
+    Completer, DEFAULT_COMPLETION_BATCH, JobId, JobSpec, NewAsset, QueueStore, StageCost,
+    StoreConfig, TenantId, WorkerId,
 };
 
 use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
@@ -99,11 +105,13 @@ impl Scratch {
     }
 }
 
-/// Pre-enqueues `jobs` jobs, then times `workers` workers running them all.
+/// Pre-enqueues `jobs` jobs, then times `workers` workers running them all, each claiming up to
+/// `batch` runs at a time.
 pub(crate) async fn throughput(
     url: &str,
     workers: u32,
     jobs: u32,
+    batch: u32,
 ) -> anyhow::Result<ThroughputRun> {
     let scratch = Arc::new(Scratch::create(url, workers.max(SUBMITTERS as u32) + 2).await?);
     let mut submitters = Vec::new();
@@ -123,23 +131,35 @@ pub(crate) async fn throughput(
     }
 
     let started = Instant::now();
+    let completer = Completer::spawn(scratch.store.clone(), DEFAULT_COMPLETION_BATCH);
     let mut tasks = Vec::new();
     for w in 0..workers {
         let store = scratch.store.clone();
+        let completer = completer.clone();
         tasks.push(tokio::spawn(async move {
             let me = WorkerId(format!("queue-bench-{w}"));
             let mut ran = Vec::new();
             loop {
-                let claimed = store.claim(&me, &[STAGE], LEASE, 1).await?;
+                let claimed = store.claim(&me, &[STAGE], LEASE, batch).await?;
                 // The backlog was enqueued before the workers started: nothing ready means done
                 // (a run another claim holds is skipped, and that claimer completes it).
-                let Some(run) = claimed.first() else {
+                if claimed.is_empty() {
                     return anyhow::Ok(ran);
-                };
-                store
-                    .complete(&run.lease, &json!({}), &StageCost::default())
-                    .await?;
-                ran.push(run.job_id);
+                }
+                // Each claimed run finishes on its own, as a worker's stage tasks do.
+                let mut finishing = JoinSet::new();
+                for run in claimed {
+                    let completer = completer.clone();
+                    finishing.spawn(async move {
+                        completer
+                            .complete(&run.lease, &json!({}), &StageCost::default())
+                            .await
+                            .map(|_| run.job_id)
+                    });
+                }
+                while let Some(done) = finishing.join_next().await {
+                    ran.push(done??);
+                }
             }
         }));
     }
@@ -163,14 +183,16 @@ pub(crate) async fn throughput(
     })
 }
 
-/// Submits `jobs` jobs one at a time, `gap` apart on average, to `workers` idle polling workers;
-/// measures from calling submit until `claim` returned the job.
+/// Submits `jobs` jobs one at a time, `gap` apart on average, to `workers` idle workers that poll
+/// every `poll` and, with `doorbell`, wait on it between polls (the submitter rings it after each
+/// submit); measures from calling submit until `claim` returned the job.
 pub(crate) async fn latency(
     url: &str,
     workers: u32,
     jobs: u32,
     gap: Duration,
     poll: Duration,
+    doorbell: Option<&Hints>,
 ) -> anyhow::Result<LatencyRun> {
     let scratch = Scratch::create(url, workers + 2).await?;
     let stop = Arc::new(AtomicBool::new(false));
@@ -180,13 +202,19 @@ pub(crate) async fn latency(
         let store = scratch.store.clone();
         let stop = Arc::clone(&stop);
         let started = Arc::clone(&started);
+        let mut bell = doorbell.map(|hints| hints.doorbell(&[STAGE.to_owned()]));
         tasks.push(tokio::spawn(async move {
             let me = WorkerId(format!("queue-bench-{w}"));
             while !stop.load(Ordering::Relaxed) {
                 let claimed = store.claim(&me, &[STAGE], LEASE, 1).await?;
                 let at = Instant::now();
                 let Some(run) = claimed.first() else {
-                    tokio::time::sleep(poll).await;
+                    match bell.as_mut() {
+                        Some(bell) => {
+                            let _: Wake = bell.wait(poll).await;
+                        }
+                        None => tokio::time::sleep(poll).await,
+                    }
                     continue;
                 };
                 started
@@ -209,6 +237,10 @@ pub(crate) async fn latency(
         tokio::time::sleep(jittered(gap, key)).await;
         let sent = Instant::now();
         let job = scratch.submit(key).await?;
+        if let Some(hints) = doorbell {
+            // A hint: if it fails, the workers' poll still finds the job.
+            let _ = hints.ring(STAGE).await;
+        }
         submit_ms.push(sent.elapsed().as_secs_f64() * 1e3);
         submitted.push(sent);
         key_of.insert(job, key);
@@ -243,7 +275,11 @@ pub(crate) async fn latency(
     scratch.drop_schema().await?;
     Ok(LatencyRun {
         system: System::Uniphys,
-        wakeup: Wakeup::Poll,
+        wakeup: if doorbell.is_some() {
+            Wakeup::Doorbell
+        } else {
+            Wakeup::Poll
+        },
         enqueue_to_start_ms: latencies_ms(&submitted, &by_key)?,
         submit_ms,
         executed,

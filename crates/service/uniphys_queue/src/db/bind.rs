@@ -1,4 +1,5 @@
-//! Values bound to statement parameters, in a form both drivers accept.
+//! Values bound to statement parameters, in a form both drivers accept: lists are Postgres
+//! arrays and SQLite JSON arrays.
 
 use serde_json::Value;
 use sqlx::postgres::PgArguments;
@@ -14,8 +15,10 @@ pub(crate) enum Arg {
     Text(Option<String>),
     Bytes(Vec<u8>),
     Json(Option<Value>),
-    /// A list of texts for `{in_list_N}`.
+    /// A list of texts for `{in_list_N}` (or `unnest` on Postgres).
     TextList(Vec<String>),
+    /// A list of integers for `{in_list_N}` (or `unnest` on Postgres).
+    I64List(Vec<i64>),
 }
 
 impl From<i64> for Arg {
@@ -63,6 +66,11 @@ impl From<Vec<String>> for Arg {
         Self::TextList(v)
     }
 }
+impl From<Vec<i64>> for Arg {
+    fn from(v: Vec<i64>) -> Self {
+        Self::I64List(v)
+    }
+}
 
 pub(crate) fn bind_pg(sql: &'static str, args: Vec<Arg>) -> Query<'static, Postgres, PgArguments> {
     let mut query = sqlx::query::<Postgres>(sql);
@@ -73,6 +81,7 @@ pub(crate) fn bind_pg(sql: &'static str, args: Vec<Arg>) -> Query<'static, Postg
             Arg::Bytes(v) => query.bind(v),
             Arg::Json(v) => query.bind(v.map(Json)),
             Arg::TextList(v) => query.bind(v),
+            Arg::I64List(v) => query.bind(v),
         };
     }
     query
@@ -90,6 +99,7 @@ pub(crate) fn bind_sqlite(
             Arg::Bytes(v) => query.bind(v),
             Arg::Json(v) => query.bind(v.map(Json)),
             Arg::TextList(v) => query.bind(Value::from(v).to_string()),
+            Arg::I64List(v) => query.bind(Value::from(v).to_string()),
         };
     }
     query

@@ -4,8 +4,8 @@
 //! Tokens: `{now}` is the database clock in Unix milliseconds (Postgres `statement_timestamp()`,
 //! fixed within a statement; SQLite `unixepoch('subsec')`, fixed within a step); `{skip_locked}` is
 //! `FOR UPDATE SKIP LOCKED` on Postgres and nothing on SQLite, whose writers are serialized anyway;
-//! `{for_update}` likewise; `{in_list_N}` tests membership in the text list bound as `$N`
-//! (a `text[]` on Postgres, a JSON array on SQLite). Parameters are `$N` in both dialects.
+//! `{for_update}` likewise; `{in_list_N}` tests membership in the text or integer list bound as
+//! `$N` (an array on Postgres, a JSON array on SQLite). Parameters are `$N` in both dialects.
 
 use std::sync::OnceLock;
 

@@ -9,7 +9,7 @@ use serde_json::{Value, json};
 
 use super::{QueueStore, RunRef, fencing};
 use crate::db::{Session, Sql, args};
-use crate::{JobId, JobState, Lease, QueueError, QueueResult, StageRunId};
+use crate::{JobId, Lease, QueueError, QueueResult, StageRunId};
 
 /// Largest output manifest accepted, in bytes of JSON: manifests name artifacts (object keys and
 /// digests), they never carry them.
@@ -48,95 +48,103 @@ pub struct CompleteOutcome {
     pub job_succeeded: bool,
 }
 
-// Statements take their lists as one JSON parameter, read with `jsonb_*` on Postgres and
-// `json_each` on SQLite, so a batch of any size is one statement per step.
+// Statements take each list as one parameter (an array on Postgres, JSON on SQLite), so a batch
+// of any size is one statement per step, planned with its lengths known (index scans).
 
 // The jobs of the runs, locked in id order (two batches never wait on each other in a cycle);
 // SQLite has one writer.
-static LOCK_JOBS: Sql = Sql::per_dialect(
-    "SELECT id FROM jobs
-     WHERE id IN (SELECT job_id FROM stage_runs
-                  WHERE id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1)))
-     ORDER BY id FOR UPDATE",
-    "SELECT id FROM jobs
-     WHERE id IN (SELECT job_id FROM stage_runs WHERE id IN (SELECT value FROM json_each($1)))",
+static LOCK_JOBS: Sql = Sql::new(
+    "SELECT id FROM jobs WHERE id IN (SELECT job_id FROM stage_runs WHERE id {in_list_1})
+     ORDER BY id {for_update}",
 );
 
+// $1 run ids, $2 attempts, $3 and $4 the manifests and costs as JSON arrays in the same order.
 static SUCCEED: Sql = Sql::per_dialect(
     "UPDATE stage_runs
-     SET state = 'succeeded', output_manifest = c.manifest, cost = c.cost,
-         finished_at_ms = {now}, lease_expires_at_ms = NULL
-     FROM jsonb_to_recordset($1)
-          AS c(run_id BIGINT, run_attempt BIGINT, manifest JSONB, cost JSONB)
+     SET state = 'succeeded', output_manifest = $3 -> CAST(c.ord - 1 AS INT),
+         cost = $4 -> CAST(c.ord - 1 AS INT), finished_at_ms = {now}, lease_expires_at_ms = NULL
+     FROM unnest(CAST($1 AS BIGINT[]), CAST($2 AS BIGINT[]))
+          WITH ORDINALITY AS c(run_id, run_attempt, ord)
      WHERE id = c.run_id AND attempt = c.run_attempt AND state = 'running'
      RETURNING id, job_id, stage_name, attempt",
     "UPDATE stage_runs
      SET state = 'succeeded', output_manifest = c.manifest, cost = c.cost,
          finished_at_ms = {now}, lease_expires_at_ms = NULL
-     FROM (SELECT value ->> '$.run_id' AS run_id, value ->> '$.run_attempt' AS run_attempt,
-                  value -> '$.manifest' AS manifest, value -> '$.cost' AS cost
-           FROM json_each($1)) AS c
+     FROM (SELECT i.value AS run_id, a.value AS run_attempt,
+                  $3 -> ('$[' || i.key || ']') AS manifest, $4 -> ('$[' || i.key || ']') AS cost
+           FROM json_each($1) AS i JOIN json_each($2) AS a ON a.key = i.key) AS c
      WHERE id = c.run_id AND attempt = c.run_attempt AND state = 'running'
      RETURNING id, job_id, stage_name, attempt",
 );
 
-static DEPENDENTS: Sql = Sql::per_dialect(
-    "SELECT depends_on_id, stage_run_id FROM stage_deps
-     WHERE depends_on_id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1))",
-    "SELECT depends_on_id, stage_run_id FROM stage_deps
-     WHERE depends_on_id IN (SELECT value FROM json_each($1))",
-);
+static DEPENDENTS: Sql =
+    Sql::new("SELECT depends_on_id, stage_run_id FROM stage_deps WHERE depends_on_id {in_list_1}");
 
 // A dependent becomes ready when its last blocking dependencies succeed (SET reads old values).
-static UNBLOCK: Sql = Sql::per_dialect(
+static UNBLOCK: Sql = Sql::new(
     "UPDATE stage_runs
      SET blocking_deps = blocking_deps - d.n,
          state = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN 'ready' ELSE state END,
          run_after_ms = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN {now}
                         ELSE run_after_ms END
      FROM (SELECT stage_run_id AS dependent, count(*) AS n FROM stage_deps
-           WHERE depends_on_id IN (SELECT CAST(value AS BIGINT)
-                                   FROM jsonb_array_elements_text($1))
-           GROUP BY stage_run_id) AS d
-     WHERE id = d.dependent
-     RETURNING id, stage_name, state",
-    "UPDATE stage_runs
-     SET blocking_deps = blocking_deps - d.n,
-         state = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN 'ready' ELSE state END,
-         run_after_ms = CASE WHEN blocking_deps = d.n AND state = 'blocked' THEN {now}
-                        ELSE run_after_ms END
-     FROM (SELECT stage_run_id AS dependent, count(*) AS n FROM stage_deps
-           WHERE depends_on_id IN (SELECT value FROM json_each($1))
-           GROUP BY stage_run_id) AS d
+           WHERE depends_on_id {in_list_1} GROUP BY stage_run_id) AS d
      WHERE id = d.dependent
      RETURNING id, stage_name, state",
 );
 
-static FINISH_JOBS: Sql = Sql::per_dialect(
+static FINISH_JOBS: Sql = Sql::new(
     "UPDATE jobs SET state = 'succeeded', finished_at_ms = {now}
-     WHERE id IN (SELECT CAST(value AS BIGINT) FROM jsonb_array_elements_text($1))
-       AND state = 'running'
-       AND NOT EXISTS (SELECT 1 FROM stage_runs s WHERE s.job_id = jobs.id AND s.state <> 'succeeded')
-     RETURNING id",
-    "UPDATE jobs SET state = 'succeeded', finished_at_ms = {now}
-     WHERE id IN (SELECT value FROM json_each($1))
-       AND state = 'running'
+     WHERE id {in_list_1} AND state = 'running'
        AND NOT EXISTS (SELECT 1 FROM stage_runs s WHERE s.job_id = jobs.id AND s.state <> 'succeeded')
      RETURNING id",
 );
 
-// Events in the order given (`seq`), so a stage's success precedes its job's.
-static RECORD_EVENTS: Sql = Sql::per_dialect(
+// In the order given: $1 job ids, $2 run ids, $3 stage names, $4 attempts, $5 details (JSON).
+static STAGE_EVENTS: Sql = Sql::per_dialect(
     "INSERT INTO events (job_id, stage_run_id, stage_name, kind, attempt, detail, at_ms)
-     SELECT e.job_id, e.stage_run_id, e.stage_name, e.kind, e.attempt, e.detail, {now}
-     FROM jsonb_to_recordset($1) AS e(seq BIGINT, job_id BIGINT, stage_run_id BIGINT,
-                                      stage_name TEXT, kind TEXT, attempt BIGINT, detail JSONB)
-     ORDER BY e.seq",
+     SELECT e.job_id, e.run_id, e.stage_name, 'stage_succeeded', e.attempt,
+            $5 -> CAST(e.ord - 1 AS INT), {now}
+     FROM unnest(CAST($1 AS BIGINT[]), CAST($2 AS BIGINT[]), CAST($3 AS TEXT[]),
+                 CAST($4 AS BIGINT[])) WITH ORDINALITY AS e(job_id, run_id, stage_name, attempt, ord)
+     ORDER BY e.ord",
     "INSERT INTO events (job_id, stage_run_id, stage_name, kind, attempt, detail, at_ms)
-     SELECT value ->> '$.job_id', value ->> '$.stage_run_id', value ->> '$.stage_name',
-            value ->> '$.kind', value ->> '$.attempt', value -> '$.detail', {now}
-     FROM json_each($1) ORDER BY value ->> '$.seq'",
+     SELECT j.value, r.value, s.value, 'stage_succeeded', a.value, $5 -> ('$[' || j.key || ']'),
+            {now}
+     FROM json_each($1) AS j JOIN json_each($2) AS r ON r.key = j.key
+          JOIN json_each($3) AS s ON s.key = j.key JOIN json_each($4) AS a ON a.key = j.key
+     ORDER BY j.key",
 );
+
+// After the stage events, so a job's success follows its stages'.
+static JOB_EVENTS: Sql = Sql::per_dialect(
+    "INSERT INTO events (job_id, kind, at_ms)
+     SELECT x.job_id, 'job_succeeded', {now}
+     FROM unnest(CAST($1 AS BIGINT[])) WITH ORDINALITY AS x(job_id, ord) ORDER BY x.ord",
+    "INSERT INTO events (job_id, kind, at_ms)
+     SELECT value, 'job_succeeded', {now} FROM json_each($1) ORDER BY key",
+);
+
+/// The `stage_succeeded` events of a batch, column by column.
+#[derive(Default)]
+struct StageEvents {
+    jobs: Vec<i64>,
+    runs: Vec<i64>,
+    stages: Vec<String>,
+    attempts: Vec<i64>,
+    details: Vec<Value>,
+}
+
+impl StageEvents {
+    fn push(&mut self, done: &Succeeded, lease: Lease, unblocked: &[RunRef]) {
+        self.jobs.push(done.job.0);
+        self.runs.push(lease.run_id.0);
+        self.stages.push(done.stage_name.clone());
+        self.attempts.push(i64::from(lease.attempt));
+        let names: Vec<&str> = unblocked.iter().map(|r| r.stage_name.as_str()).collect();
+        self.details.push(json!({ "unblocked": names }));
+    }
+}
 
 /// A run the batch marked succeeded.
 struct Succeeded {
@@ -196,22 +204,27 @@ impl QueueStore {
             return Ok(results.into_iter().flatten().collect());
         }
         let mut tx = self.db.write_tx().await?;
-        let run_ids = json!(batch.iter().map(|c| c.lease.run_id.0).collect::<Vec<_>>());
+        let run_ids: Vec<i64> = batch.iter().map(|c| c.lease.run_id.0).collect();
         tx.fetch_all(&LOCK_JOBS, args![run_ids.clone()]).await?;
-        let rows = batch
+        let attempts: Vec<i64> = batch.iter().map(|c| i64::from(c.lease.attempt)).collect();
+        let manifests: Vec<Value> = batch.iter().map(|c| c.output_manifest.clone()).collect();
+        let costs = batch
             .iter()
-            .map(|c| {
-                Ok(json!({
-                    "run_id": c.lease.run_id.0,
-                    "run_attempt": c.lease.attempt,
-                    "manifest": c.output_manifest,
-                    "cost": serde_json::to_value(&c.cost)
-                        .map_err(|e| QueueError::Invalid(e.to_string()))?,
-                }))
-            })
+            .map(|c| serde_json::to_value(&c.cost).map_err(|e| QueueError::Invalid(e.to_string())))
             .collect::<QueueResult<Vec<Value>>>()?;
         let mut succeeded: HashMap<StageRunId, Succeeded> = HashMap::new();
-        for row in tx.fetch_all(&SUCCEED, args![Value::Array(rows)]).await? {
+        let updated = tx
+            .fetch_all(
+                &SUCCEED,
+                args![
+                    run_ids,
+                    attempts,
+                    Value::Array(manifests),
+                    Value::Array(costs)
+                ],
+            )
+            .await?;
+        for row in updated {
             succeeded.insert(
                 StageRunId(row.i64("id")?),
                 Succeeded {
@@ -226,7 +239,7 @@ impl QueueStore {
         let finished: HashSet<JobId> = if jobs.is_empty() {
             HashSet::new()
         } else {
-            let ids = json!(jobs.iter().map(|j| j.0).collect::<Vec<_>>());
+            let ids: Vec<i64> = jobs.iter().map(|j| j.0).collect();
             tx.fetch_all(&FINISH_JOBS, args![ids])
                 .await?
                 .iter()
@@ -247,7 +260,8 @@ impl QueueStore {
             })
             .collect();
         let mut reported = HashSet::new();
-        let mut events = Vec::new();
+        let mut events = StageEvents::default();
+        let mut finished_jobs = Vec::new();
         let mut outcomes = Vec::with_capacity(batch.len());
         for (i, c) in batch.iter().enumerate() {
             let run = c.lease.run_id;
@@ -261,27 +275,31 @@ impl QueueStore {
             let next = unblocked.get(&run).cloned().unwrap_or_default();
             let job_succeeded =
                 finished.contains(&done.job) && last_of_job.get(&done.job) == Some(&i);
-            events.push(json!({
-                "job_id": done.job.0, "stage_run_id": run.0, "stage_name": done.stage_name,
-                "kind": "stage_succeeded", "attempt": c.lease.attempt,
-                "detail": { "unblocked": next.iter().map(|r| &r.stage_name).collect::<Vec<_>>() },
-            }));
+            events.push(done, c.lease, &next);
             if job_succeeded {
-                events.push(json!({
-                    "job_id": done.job.0, "kind": format!("job_{}", JobState::Succeeded),
-                }));
+                finished_jobs.push(done.job.0);
             }
             outcomes.push(Ok(CompleteOutcome {
                 unblocked: next,
                 job_succeeded,
             }));
         }
-        if !events.is_empty() {
-            for (seq, event) in events.iter_mut().enumerate() {
-                event["seq"] = json!(seq);
-            }
-            tx.execute(&RECORD_EVENTS, args![Value::Array(events)])
-                .await?;
+        if !events.jobs.is_empty() {
+            let StageEvents {
+                jobs,
+                runs,
+                stages,
+                attempts,
+                details,
+            } = events;
+            tx.execute(
+                &STAGE_EVENTS,
+                args![jobs, runs, stages, attempts, Value::Array(details)],
+            )
+            .await?;
+        }
+        if !finished_jobs.is_empty() {
+            tx.execute(&JOB_EVENTS, args![finished_jobs]).await?;
         }
         tx.commit().await?;
         let mut outcomes = outcomes.into_iter();
@@ -314,7 +332,7 @@ async fn unblock(
     if succeeded.is_empty() {
         return Ok(by_run);
     }
-    let ids = json!(succeeded.keys().map(|r| r.0).collect::<Vec<_>>());
+    let ids: Vec<i64> = succeeded.keys().map(|r| r.0).collect();
     let mut edges = Vec::new();
     for row in tx.fetch_all(&DEPENDENTS, args![ids.clone()]).await? {
         edges.push((
