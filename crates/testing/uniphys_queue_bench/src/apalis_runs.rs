@@ -5,7 +5,7 @@
 //! its own `apalis` schema (created by `PostgresStorage::setup`); each measurement uses a fresh
 //! queue name and deletes its rows afterwards.
 
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -18,7 +18,9 @@ use sqlx::postgres::PgPoolOptions;
 use sqlx::{Connection as _, PgPool};
 use tokio::task::JoinHandle;
 
-use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
+use crate::measure::{
+    BACKGROUND_KEY_BASE, LatencyRun, Probes, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms,
+};
 use crate::rearming_poll::RearmingInterval;
 use crate::uniphys_runs::jittered;
 
@@ -44,7 +46,11 @@ impl Recorder {
         })
     }
 
+    /// Records a start; background jobs (keys from [`BACKGROUND_KEY_BASE`]) are not waited for.
     fn record(&self, key: u64, at: Instant) -> Result<(), BoxDynError> {
+        if key >= BACKGROUND_KEY_BASE {
+            return Ok(());
+        }
         let mut started = self.started.lock().map_err(|_| "recorder poisoned")?;
         started.push((key, at));
         if started.len() >= self.expected {
@@ -156,6 +162,28 @@ impl Scratch {
         Ok((contexts, handles))
     }
 
+    /// Waits until `total` tasks of the queue are `Done` (background tasks the recorder does not
+    /// wait for).
+    async fn wait_done(&self, total: u64) -> anyhow::Result<()> {
+        let deadline = Instant::now() + PATIENCE;
+        loop {
+            let (done,): (i64,) = sqlx::query_as(
+                "SELECT count(*) FROM apalis.jobs WHERE job_type = $1 AND status = 'Done'",
+            )
+            .bind(&self.queue)
+            .fetch_one(&self.pool)
+            .await?;
+            if u64::try_from(done)? >= total {
+                return Ok(());
+            }
+            ensure!(
+                Instant::now() < deadline,
+                "apalis: {done} of {total} tasks done after {PATIENCE:?}"
+            );
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    }
+
     /// Closes the pool, then on a fresh connection fails unless all `jobs` tasks of the queue are
     /// `Done`, and deletes the queue's rows.
     ///
@@ -254,32 +282,42 @@ pub(crate) async fn throughput(
     })
 }
 
-/// Pushes `jobs` tasks one at a time, `gap` apart on average, to `workers` idle workers woken by
-/// `wakeup`; measures from calling push until the handler started.
+/// Pushes `probes.jobs` tasks one at a time, `probes.gap` apart on average, to `probes.workers`
+/// workers woken by `wakeup`, while a background task pushes `probes.load_per_sec` other tasks a
+/// second; measures from calling push until the handler started a probe task.
 pub(crate) async fn latency(
     url: &str,
-    workers: u32,
-    jobs: u32,
-    gap: Duration,
+    probes: Probes,
     wakeup: Wakeup,
-    poll: Duration,
 ) -> anyhow::Result<LatencyRun> {
-    let scratch = Scratch::create(url, workers + 2, 1).await?;
-    let recorder = Recorder::new(jobs);
-    let (contexts, handles) = scratch.spawn_workers(workers, wakeup, poll, &recorder)?;
+    let scratch = Scratch::create(url, probes.workers + 3, 1).await?;
+    let recorder = Recorder::new(probes.jobs);
+    let (contexts, handles) =
+        scratch.spawn_workers(probes.workers, wakeup, probes.poll, &recorder)?;
 
     tokio::time::sleep(WARM_UP).await;
+    let load_stop = Arc::new(AtomicBool::new(false));
+    let load = tokio::spawn(background_load(
+        scratch.storage(),
+        probes.load_per_sec,
+        Arc::clone(&load_stop),
+    ));
     let mut sink = scratch.storage();
     let mut submitted = Vec::new();
     let mut submit_ms = Vec::new();
-    for key in 0..u64::from(jobs) {
-        tokio::time::sleep(jittered(gap, key)).await;
+    for key in 0..u64::from(probes.jobs) {
+        tokio::time::sleep(jittered(probes.gap, key)).await;
         let sent = Instant::now();
         sink.push(key).await?;
         submit_ms.push(sent.elapsed().as_secs_f64() * 1e3);
         submitted.push(sent);
     }
+    load_stop.store(true, Ordering::Relaxed);
+    let background_jobs = load.await??;
     recorder.wait_all().await?;
+    // The background tasks finish too before the workers stop (they are checked done below).
+    let total = u64::from(probes.jobs) + background_jobs as u64;
+    scratch.wait_done(total).await?;
     progress(&scratch.queue, "all started; stopping the workers");
     let stuck_workers = stop(&contexts, handles).await?;
     if stuck_workers > 0 {
@@ -289,7 +327,9 @@ pub(crate) async fn latency(
         );
     }
 
-    scratch.check_all_done_and_delete(jobs).await?;
+    scratch
+        .check_all_done_and_delete(u32::try_from(total)?)
+        .await?;
     let started = recorder.take()?;
     Ok(LatencyRun {
         system: System::Apalis,
@@ -297,6 +337,29 @@ pub(crate) async fn latency(
         enqueue_to_start_ms: latencies_ms(&submitted, &started)?,
         submit_ms,
         executed: started.into_iter().map(|(key, _)| key).collect(),
+        background_jobs,
+        load_per_sec: probes.load_per_sec,
         stuck_workers,
     })
+}
+
+/// Pushes background tasks (keys from [`BACKGROUND_KEY_BASE`]) at `per_sec` a second until
+/// `stop`; returns how many.
+async fn background_load(
+    mut sink: PostgresStorage<u64>,
+    per_sec: u32,
+    stop: Arc<AtomicBool>,
+) -> anyhow::Result<usize> {
+    if per_sec == 0 {
+        return Ok(0);
+    }
+    let mut tick = tokio::time::interval(Duration::from_secs_f64(1.0 / f64::from(per_sec)));
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut key = BACKGROUND_KEY_BASE;
+    while !stop.load(Ordering::Relaxed) {
+        tick.tick().await;
+        sink.push(key).await?;
+        key += 1;
+    }
+    Ok(usize::try_from(key - BACKGROUND_KEY_BASE)?)
 }

@@ -32,6 +32,9 @@ pub(crate) struct BenchArgs {
     /// submissions do not stay in phase with the pollers).
     #[arg(long, default_value_t = 20)]
     pub latency_gap_ms: u64,
+    /// Background jobs a second submitted while the latency is measured under load.
+    #[arg(long, default_value_t = 300)]
+    pub load_per_sec: u32,
     /// How long a worker that found nothing sleeps before it polls again, milliseconds (both systems).
     #[arg(long, default_value_t = 5)]
     pub poll_ms: u64,

@@ -9,6 +9,28 @@ use anyhow::ensure;
 /// submission.
 pub(crate) const WARM_UP: Duration = Duration::from_millis(500);
 
+/// The fallback poll of workers woken by the doorbell: the worker's default `poll_interval`.
+pub(crate) const DOORBELL_POLL: Duration = Duration::from_secs(1);
+
+/// Keys of the background jobs a latency measurement runs under start here; the probe jobs
+/// measured are `0..jobs`.
+pub(crate) const BACKGROUND_KEY_BASE: u64 = 1 << 40;
+
+/// How a latency measurement submits its probe jobs and the load it runs under.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Probes {
+    /// Waiting workers.
+    pub workers: u32,
+    /// Probe jobs, submitted one at a time.
+    pub jobs: u32,
+    /// Mean gap between two probes.
+    pub gap: Duration,
+    /// A worker that found nothing waits this long before it polls again.
+    pub poll: Duration,
+    /// Background jobs submitted a second meanwhile (0: an idle queue).
+    pub load_per_sec: u32,
+}
+
 /// The two systems compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum System {
@@ -36,8 +58,8 @@ pub(crate) enum Wakeup {
     PollRearmed,
     /// apalis only: PostgreSQL `LISTEN/NOTIFY` (apalis-postgres `with_pubsub`).
     Notify,
-    /// UniPhys only: the service's doorbell (Redis PUBLISH, rung after submit), polling
-    /// `poll_ms` as the fallback.
+    /// UniPhys only: the service's doorbell (Redis PUBLISH, rung after submit), polling every
+    /// [`DOORBELL_POLL`] as the fallback, as the worker does by default.
     Doorbell,
 }
 
@@ -47,7 +69,7 @@ impl Wakeup {
             Self::Poll => format!("poll {poll_ms} ms"),
             Self::PollRearmed => format!("poll {poll_ms} ms, re-arming timer"),
             Self::Notify => "LISTEN/NOTIFY".to_owned(),
-            Self::Doorbell => format!("Redis doorbell, poll {poll_ms} ms"),
+            Self::Doorbell => format!("Redis doorbell, poll {} ms", DOORBELL_POLL.as_millis()),
         }
     }
 }
@@ -71,7 +93,8 @@ impl ThroughputRun {
     }
 }
 
-/// One latency measurement: jobs submitted one at a time to an idle queue with waiting workers.
+/// One latency measurement: probe jobs submitted one at a time to waiting workers, on an idle
+/// queue or under a background load.
 #[derive(Debug)]
 pub(crate) struct LatencyRun {
     pub system: System,
@@ -80,8 +103,12 @@ pub(crate) struct LatencyRun {
     pub enqueue_to_start_ms: Vec<f64>,
     /// How long the submit call itself took, milliseconds, one per job.
     pub submit_ms: Vec<f64>,
-    /// The job keys in the order the workers started them (one entry per execution).
+    /// The probe jobs' keys in the order the workers started them (one entry per execution).
     pub executed: Vec<u64>,
+    /// Background jobs submitted during the measurement (all checked to have run once).
+    pub background_jobs: usize,
+    /// Their rate asked for, per second.
+    pub load_per_sec: u32,
     /// Workers that had not returned 15 s after being stopped (aborted; apalis only).
     pub stuck_workers: u32,
 }

@@ -47,15 +47,18 @@ pub(crate) fn throughput_table(runs: &[ThroughputRun]) -> String {
     out
 }
 
-/// Latency table: p50 and p99 from calling submit until a worker holds the job; the ratios are
-/// to uniphys (above 1: slower than uniphys).
+/// Latency table: p50 and p99 from calling submit until a worker holds the probe job; the ratios
+/// are to the first uniphys row under the same load (above 1: slower than uniphys).
 pub(crate) fn latency_table(runs: &[LatencyRun], poll_ms: u64) -> String {
     let mut out = String::from(
-        "| system | wake-up | jobs | enqueue→start p50 ms | p99 ms | max ms | p50 ratio to uniphys | p99 ratio | submit call p50 ms |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| system | wake-up | load jobs/s | background jobs | probes | enqueue→start p50 ms | p99 ms | max ms | p50 ratio to uniphys | p99 ratio | submit call p50 ms |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
-    let ours = runs.iter().find(|r| r.system == System::Uniphys);
     for run in runs {
+        // Compared with the first uniphys row under the same load.
+        let ours = runs
+            .iter()
+            .find(|r| r.system == System::Uniphys && r.load_per_sec == run.load_per_sec);
         let p50 = quantile(&run.enqueue_to_start_ms, 0.5);
         let p99 = quantile(&run.enqueue_to_start_ms, 0.99);
         let (r50, r99) = ours.map_or_else(
@@ -68,9 +71,11 @@ pub(crate) fn latency_table(runs: &[LatencyRun], poll_ms: u64) -> String {
             },
         );
         out.push_str(&format!(
-            "| {} | {} | {} | {p50:.2} | {p99:.2} | {:.2} | {r50} | {r99} | {:.2} |\n",
+            "| {} | {} | {} | {} | {} | {p50:.2} | {p99:.2} | {:.2} | {r50} | {r99} | {:.2} |\n",
             run.system.name(),
             run.wakeup.name(poll_ms),
+            run.load_per_sec,
+            run.background_jobs,
             run.enqueue_to_start_ms.len(),
             quantile(&run.enqueue_to_start_ms, 1.0),
             quantile(&run.submit_ms, 0.5),

@@ -19,7 +19,9 @@ use uniphys_queue::{
     StoreConfig, TenantId, WorkerId,
 };
 
-use crate::measure::{LatencyRun, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms};
+use crate::measure::{
+    BACKGROUND_KEY_BASE, DOORBELL_POLL, LatencyRun, Probes, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms,
+};
 
 const STAGE: &str = "noop";
 const LEASE: Duration = Duration::from_secs(60);
@@ -183,26 +185,30 @@ pub(crate) async fn throughput(
     })
 }
 
-/// Submits `jobs` jobs one at a time, `gap` apart on average, to `workers` idle workers that poll
-/// every `poll` and, with `doorbell`, wait on it between polls (the submitter rings it after each
-/// submit); measures from calling submit until `claim` returned the job.
+/// Submits `probes.jobs` jobs one at a time, `probes.gap` apart on average, to `probes.workers`
+/// workers that poll every `probes.poll` or, with `doorbell`, wait on it between polls every
+/// [`DOORBELL_POLL`] (the submitter rings it after each submit), while a background submitter adds
+/// `probes.load_per_sec` other jobs a second; measures from calling submit until `claim` returned
+/// a probe job.
 pub(crate) async fn latency(
     url: &str,
-    workers: u32,
-    jobs: u32,
-    gap: Duration,
-    poll: Duration,
+    probes: Probes,
     doorbell: Option<&Hints>,
 ) -> anyhow::Result<LatencyRun> {
-    let scratch = Scratch::create(url, workers + 2).await?;
+    let scratch = Arc::new(Scratch::create(url, probes.workers + 3).await?);
     let stop = Arc::new(AtomicBool::new(false));
     let started: Arc<Mutex<Vec<(JobId, Instant)>>> = Arc::default();
     let mut tasks = Vec::new();
-    for w in 0..workers {
+    for w in 0..probes.workers {
         let store = scratch.store.clone();
         let stop = Arc::clone(&stop);
         let started = Arc::clone(&started);
         let mut bell = doorbell.map(|hints| hints.doorbell(&[STAGE.to_owned()]));
+        let poll = if bell.is_some() {
+            DOORBELL_POLL
+        } else {
+            probes.poll
+        };
         tasks.push(tokio::spawn(async move {
             let me = WorkerId(format!("queue-bench-{w}"));
             while !stop.load(Ordering::Relaxed) {
@@ -230,11 +236,17 @@ pub(crate) async fn latency(
     }
 
     tokio::time::sleep(WARM_UP).await;
+    let load_stop = Arc::new(AtomicBool::new(false));
+    let load = tokio::spawn(background_load(
+        Arc::clone(&scratch),
+        probes.load_per_sec,
+        Arc::clone(&load_stop),
+    ));
     let mut submitted = Vec::new();
     let mut submit_ms = Vec::new();
     let mut key_of: HashMap<JobId, u64> = HashMap::new();
-    for key in 0..u64::from(jobs) {
-        tokio::time::sleep(jittered(gap, key)).await;
+    for key in 0..u64::from(probes.jobs) {
+        tokio::time::sleep(jittered(probes.gap, key)).await;
         let sent = Instant::now();
         let job = scratch.submit(key).await?;
         if let Some(hints) = doorbell {
@@ -245,6 +257,10 @@ pub(crate) async fn latency(
         submitted.push(sent);
         key_of.insert(job, key);
     }
+    load_stop.store(true, Ordering::Relaxed);
+    let background = load.await??;
+    let background_jobs = background.len();
+    key_of.extend(background);
     let deadline = Instant::now() + Duration::from_secs(30);
     while started
         .lock()
@@ -263,16 +279,20 @@ pub(crate) async fn latency(
         task.await??;
     }
 
-    scratch.check_all_succeeded_once(jobs).await?;
+    let total = u32::try_from(key_of.len())?;
+    scratch.check_all_succeeded_once(total).await?;
     let started = std::mem::take(&mut *started.lock().map_err(|_| anyhow::anyhow!("poisoned"))?);
     let ids: Vec<JobId> = started.iter().map(|(id, _)| *id).collect();
-    let executed = keys(&ids, &key_of)?;
-    let by_key: Vec<(u64, Instant)> = executed
-        .iter()
+    let by_key: Vec<(u64, Instant)> = keys(&ids, &key_of)?
+        .into_iter()
         .zip(&started)
-        .map(|(key, (_, at))| (*key, *at))
+        .map(|(key, (_, at))| (key, *at))
+        .filter(|(key, _)| *key < BACKGROUND_KEY_BASE)
         .collect();
-    scratch.drop_schema().await?;
+    Arc::into_inner(scratch)
+        .context("scratch store still shared")?
+        .drop_schema()
+        .await?;
     Ok(LatencyRun {
         system: System::Uniphys,
         wakeup: if doorbell.is_some() {
@@ -282,9 +302,33 @@ pub(crate) async fn latency(
         },
         enqueue_to_start_ms: latencies_ms(&submitted, &by_key)?,
         submit_ms,
-        executed,
+        executed: by_key.iter().map(|(key, _)| *key).collect(),
+        background_jobs,
+        load_per_sec: probes.load_per_sec,
         stuck_workers: 0,
     })
+}
+
+/// Submits background jobs (keys from [`BACKGROUND_KEY_BASE`]) at `per_sec` a second until
+/// `stop`; returns them.
+async fn background_load(
+    scratch: Arc<Scratch>,
+    per_sec: u32,
+    stop: Arc<AtomicBool>,
+) -> anyhow::Result<Vec<(JobId, u64)>> {
+    let mut submitted = Vec::new();
+    if per_sec == 0 {
+        return Ok(submitted);
+    }
+    let mut tick = tokio::time::interval(Duration::from_secs_f64(1.0 / f64::from(per_sec)));
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut key = BACKGROUND_KEY_BASE;
+    while !stop.load(Ordering::Relaxed) {
+        tick.tick().await;
+        submitted.push((scratch.submit(key).await?, key));
+        key += 1;
+    }
+    Ok(submitted)
 }
 
 /// `gap` ± 5 ms, varying with `key` (deterministic, so runs are comparable).
