@@ -79,6 +79,9 @@ async fn noop(key: u64, recorder: Data<Arc<Recorder>>) -> Result<(), BoxDynError
     recorder.record(key, Instant::now())
 }
 
+/// A running apalis worker.
+type WorkerTask = JoinHandle<anyhow::Result<()>>;
+
 /// A pool, the apalis tables, and a queue name nobody else uses.
 struct Scratch {
     url: String,
@@ -120,7 +123,7 @@ impl Scratch {
         wakeup: Wakeup,
         poll: Duration,
         recorder: &Arc<Recorder>,
-    ) -> anyhow::Result<(Vec<WorkerContext>, Vec<JoinHandle<anyhow::Result<()>>>)> {
+    ) -> anyhow::Result<(Vec<WorkerContext>, Vec<WorkerTask>)> {
         ensure!(
             wakeup != Wakeup::Doorbell,
             "apalis has no doorbell of ours; measure it polling or with LISTEN/NOTIFY"
@@ -225,10 +228,7 @@ fn progress(queue: &str, what: &str) {
 
 /// Stops the workers and waits until each has flushed its acknowledgements and returned; a worker
 /// still running after [`STOP_PATIENCE`] is aborted. Returns how many were aborted.
-async fn stop(
-    contexts: &[WorkerContext],
-    handles: Vec<JoinHandle<anyhow::Result<()>>>,
-) -> anyhow::Result<u32> {
+async fn stop(contexts: &[WorkerContext], handles: Vec<WorkerTask>) -> anyhow::Result<u32> {
     for context in contexts {
         context.stop()?;
     }

@@ -20,7 +20,8 @@ use uniphys_queue::{
 };
 
 use crate::measure::{
-    BACKGROUND_KEY_BASE, DOORBELL_POLL, LatencyRun, Probes, System, ThroughputRun, WARM_UP, Wakeup, latencies_ms,
+    BACKGROUND_KEY_BASE, DOORBELL_POLL, LatencyRun, Probes, System, ThroughputRun, WARM_UP, Wakeup,
+    latencies_ms,
 };
 
 const STAGE: &str = "noop";

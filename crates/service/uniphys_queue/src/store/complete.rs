@@ -2,7 +2,7 @@
 //! a job's last stage, the job, all in one transaction. Many runs complete in one transaction
 //! with one statement per step ([`QueueStore::complete_many`]); one run is a batch of one.
 
-use std::collections::{BTreeSet, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
@@ -303,11 +303,11 @@ impl QueueStore {
         }
         tx.commit().await?;
         let mut outcomes = outcomes.into_iter();
-        Ok(results
+        results
             .iter_mut()
             .map(|r| r.take().or_else(|| outcomes.next()))
             .collect::<Option<Vec<_>>>()
-            .ok_or_else(|| QueueError::CorruptRow("a completion lost its result".to_owned()))?)
+            .ok_or_else(|| QueueError::CorruptRow("a completion lost its result".to_owned()))
     }
 }
 
@@ -327,8 +327,8 @@ fn oversized(manifest: &Value) -> Option<QueueError> {
 async fn unblock(
     tx: &mut Session,
     succeeded: &HashMap<StageRunId, Succeeded>,
-) -> QueueResult<HashMap<StageRunId, Vec<RunRef>>> {
-    let mut by_run: HashMap<StageRunId, Vec<RunRef>> = HashMap::new();
+) -> QueueResult<BTreeMap<StageRunId, Vec<RunRef>>> {
+    let mut by_run: BTreeMap<StageRunId, Vec<RunRef>> = BTreeMap::new();
     if succeeded.is_empty() {
         return Ok(by_run);
     }

@@ -60,7 +60,13 @@ pub async fn a_batch_completes_each_run_and_fences_the_stale_one(backend: Backen
     };
     let ok = results[0].as_ref().expect("first ingest completes");
     assert_eq!(names(ok), ["colliders", "ground"], "by run id");
-    let kind = |i: usize| results[i].as_ref().map(|_| ()).unwrap_err().kind();
+    let kind = |i: usize| {
+        results[i]
+            .as_ref()
+            .map(|_| ())
+            .expect_err("this completion must fail")
+            .kind()
+    };
     assert_eq!(kind(1), QueueErrorKind::Fenced, "a stale attempt is fenced");
     assert_eq!(
         kind(2),
