@@ -51,6 +51,10 @@ struct Args {
     /// A PartNet-Mobility folder: decompose its real objects instead of the examples and URDFs.
     #[arg(long)]
     partnet: Option<PathBuf>,
+    /// With `--partnet`: write each object's merged mesh, true parts and the labels after every
+    /// step of the stage to `<dir>/<object>.json`, for looking into where parts are lost.
+    #[arg(long)]
+    dump_steps: Option<PathBuf>,
     /// Triangles of the performance asset (a subdivided example cabinet); 0 skips it.
     #[arg(long, default_value_t = 100_000)]
     perf_triangles: usize,
@@ -85,13 +89,16 @@ fn bench(args: &Args) -> anyhow::Result<()> {
             ..options_for(args)
         };
         real::bench_real(&cases, &|case| {
-            Ok(decompose_asset(
+            let (_, decomposition) = decompose_asset(
                 &case.asset,
                 &BuiltinSegmenter::default(),
                 &GeometricGenerator::default(),
                 &options,
-            )?
-            .1)
+            )?;
+            if let Some(dir) = &args.dump_steps {
+                partnet::dump_steps(dir, case, &decomposition)?;
+            }
+            Ok(decomposition)
         })?;
         for (name, reason) in &failed {
             println!("- FAILED to load {name}: {reason}");

@@ -131,3 +131,38 @@ fn merged_at_rest(asset: &MeshAsset) -> (MeshAsset, Vec<u32>, Vec<Option<JointKi
     };
     (single, truth, motion, names)
 }
+
+/// Writes `case`'s merged mesh, true parts and the labels after every kept step of
+/// `decomposition` to `<dir>/<name>.json`.
+pub(crate) fn dump_steps(
+    dir: &Path,
+    case: &RealCase,
+    decomposition: &uniphys_decompose::Decomposition,
+) -> anyhow::Result<()> {
+    let mesh = &case.asset.parts[0].mesh;
+    let positions: Vec<[f64; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let steps: serde_json::Map<String, serde_json::Value> = decomposition
+        .steps
+        .iter()
+        .map(|s| (s.step.clone(), serde_json::json!(s.face_part)))
+        .collect();
+    let motion: Vec<Option<String>> = case
+        .motion
+        .iter()
+        .map(|m| m.map(|k| format!("{k:?}").to_lowercase()))
+        .collect();
+    let value = serde_json::json!({
+        "positions": positions,
+        "triangles": mesh.triangles,
+        "truth": case.truth,
+        "part_names": case.part_names,
+        "motion": motion,
+        "steps": steps,
+        "final": decomposition.face_part,
+    });
+    std::fs::create_dir_all(dir)?;
+    let path = dir.join(format!("{}.json", case.name));
+    std::fs::write(&path, serde_json::to_vec(&value)?)
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}

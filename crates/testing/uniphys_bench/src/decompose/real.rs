@@ -106,6 +106,7 @@ pub(crate) fn bench_real(
     print_steps(&steps);
     per_category(&rows);
     worst(&rows);
+    missed(&rows);
     Ok(())
 }
 
@@ -338,5 +339,21 @@ fn worst(rows: &[(Row, Recovered)]) {
                 &row.diagnosis
             }
         );
+    }
+}
+
+/// Every object that missed a movable part, with what went wrong and at which step.
+fn missed(rows: &[(Row, Recovered)]) {
+    let missing: Vec<&Row> = rows
+        .iter()
+        .filter(|(_, m)| m.iter().any(|(_, ok)| !ok))
+        .map(|(r, _)| r)
+        .collect();
+    if missing.is_empty() {
+        return;
+    }
+    println!("\n## Objects that missed a movable part\n");
+    for row in missing {
+        println!("- {} ({}): {}", row.name, row.category, row.diagnosis);
     }
 }
