@@ -1,6 +1,6 @@
 //! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
-//! second split, small-part merge, the mesh's pieces made whole and small controls kept, hidden
+//! panels carrying a handle split back out of it, second split, small-part merge, the mesh's pieces made whole and small controls kept, hidden
 //! parts merged into the largest.
 
 use std::time::Instant;
@@ -9,6 +9,7 @@ use uniphys_geometry::{MeshAsset, MeshPart, TriMesh};
 
 use crate::apriori::{AprioriOptions, merge_parts};
 use crate::candidates::{CandidateGenerator, CandidateRequest};
+use crate::handles::{HandleOptions, keep_handled_panels};
 use crate::hidden::{HiddenOptions, merge_hidden_parts};
 use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepLabels, StepTiming};
 use crate::perception::{PerceptionOptions, perceive};
@@ -48,6 +49,8 @@ pub struct DecomposeOptions {
     pub component_area_fraction: f64,
     /// The merge of parts the views show together.
     pub apriori: AprioriOptions,
+    /// Panels carrying a handle (doors, drawer fronts) kept out of the merge.
+    pub handles: HandleOptions,
     /// The merge of small fragments.
     pub small_parts: SmallPartOptions,
     /// Connected pieces made whole, small compact pieces kept as parts.
@@ -72,6 +75,7 @@ impl Default for DecomposeOptions {
             whole_object_fraction: 0.85,
             component_area_fraction: 0.01,
             apriori: AprioriOptions::default(),
+            handles: HandleOptions::default(),
             small_parts: SmallPartOptions::default(),
             pieces: PieceOptions::default(),
             hidden: HiddenOptions::default(),
@@ -119,6 +123,14 @@ impl DecomposeOptions {
                 1.0,
             ),
             ("hidden.skip_rel", self.hidden.skip_rel, 0.0, 1.0),
+            (
+                "handles.handle_area_fraction_max",
+                self.handles.handle_area_fraction_max,
+                0.0,
+                1.0,
+            ),
+            ("handles.touch_rel", self.handles.touch_rel, 0.0, 1.0),
+            ("handles.standoff_rel", self.handles.standoff_rel, 0.0, 1.0),
             (
                 "hidden.exposed_share_max",
                 self.hidden.exposed_share_max,
@@ -270,9 +282,14 @@ pub fn decompose(
     lap("merge", &mut timings);
     keep("merge", &merged.face_part);
 
+    let (handled, _, panels_kept_apart) =
+        keep_handled_panels(mesh, &refined, &merged.face_part, &options.handles);
+    lap("handles", &mut timings);
+    keep("handles", &handled);
+
     let (again, refined_again_parts) = split_disconnected(
         mesh,
-        &merged.face_part,
+        &handled,
         options.refine_again_eps_rel,
         Some(options.refine_again_keep_whole_above),
     );
@@ -333,6 +350,7 @@ pub fn decompose(
         selected_by: selected_by.to_owned(),
         refined_parts,
         merged_parts: merged.part_count,
+        panels_kept_apart,
         refined_again_parts,
         small_parts_merged,
         pieces: pieces.pieces,

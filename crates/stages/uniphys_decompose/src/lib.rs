@@ -13,7 +13,8 @@
 //!   [`providers`] picks the segmenter and generator from the service settings;
 //! - [`select`] with an optimal assignment: the candidate that best matches the lifted masks per view;
 //! - [`apriori`], [`refine`] and [`small_parts`]: merge groups mined across views, connectivity
-//!   split, small fragments merged; all thresholds relative to the object size; [`pieces`]: the
+//!   split, small fragments merged; [`handles`]: a panel carrying a handle (a door, a drawer
+//!   front) split back out of the merge; all thresholds relative to the object size; [`pieces`]: the
 //!   mesh's connected pieces made whole, small compact pieces (knobs, buttons) kept as parts;
 //!   [`round`]: whether a part maps onto itself when turned (a wheel or a dial is kept, since
 //!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed
@@ -28,6 +29,7 @@ pub mod candidates;
 pub mod consensus;
 pub mod decompose;
 mod error;
+pub mod handles;
 pub mod hidden;
 pub mod lift;
 pub mod output;

@@ -63,6 +63,10 @@ pub struct DecomposeSummary {
     pub refined_parts: usize,
     /// Parts after the merge (`merged_parts`).
     pub merged_parts: usize,
+    /// Parts the merge had joined to others that carry a handle (doors, drawer fronts), split
+    /// back out with their handles.
+    #[serde(default)]
+    pub panels_kept_apart: usize,
     /// Parts after the second connectivity split (`refined_again_parts`).
     pub refined_again_parts: usize,
     /// Small parts merged into a neighbour.

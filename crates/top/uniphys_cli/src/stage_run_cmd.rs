@@ -63,7 +63,7 @@ fn decompose(args: &StageRunArgs) -> anyhow::Result<ExitCode> {
     write_all(&args.out, &files)?;
     let summary = &decomposition.summary;
     eprintln!(
-        "{} faces -> {} parts ({} and {}; masks {}, K prior {}, matched K {}, refined {}, merged {} by {}, refined again {}, small parts merged {}) in {:.2} s; wrote {} files to {}",
+        "{} faces -> {} parts ({} and {}; masks {}, K prior {}, matched K {}, refined {}, merged {} by {} ({} panels with a handle kept apart), refined again {}, small parts merged {}) in {:.2} s; wrote {} files to {}",
         summary.faces,
         summary.final_parts,
         summary.segmenter,
@@ -74,6 +74,7 @@ fn decompose(args: &StageRunArgs) -> anyhow::Result<ExitCode> {
         summary.refined_parts,
         summary.merged_parts,
         summary.merge_strategy,
+        summary.panels_kept_apart,
         summary.refined_again_parts,
         summary.small_parts_merged,
         summary.total_secs(),
