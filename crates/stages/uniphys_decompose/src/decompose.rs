@@ -122,6 +122,12 @@ impl DecomposeOptions {
                 0.0,
                 1.0,
             ),
+            (
+                "pieces.control_thickness_min",
+                self.pieces.control_thickness_min,
+                0.0,
+                1.0,
+            ),
             ("hidden.skip_rel", self.hidden.skip_rel, 0.0, 1.0),
             (
                 "handles.handle_area_fraction_max",

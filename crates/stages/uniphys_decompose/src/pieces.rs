@@ -8,9 +8,16 @@
 //! never two parts (measured on the shared PartNet-Mobility objects: `decompose-bench --partnet`).
 //! Welded seams between a door and its frame are the exception; they stay with whichever side
 //! holds more of the piece, except a round part carved out of the piece whose rest is not
-//! round about the same line (a wheel or a switch welded to its mount), which can spin. Pieces
-//! repeated many times over (the keys of a keyboard, the holes of a grille, screws) are surface
-//! detail, not controls: an appliance has a handful of controls.
+//! round about the same line (a wheel or a switch welded to its mount), which can spin.
+//!
+//! Controls are looked for among finer pieces, split where three or more faces share an edge:
+//! a button modelled onto its panel shares the panel's vertices, but its walls stand on the
+//! panel along edges the panel's own faces continue across (on the shared objects this finds
+//! the welded buttons of a dishwasher and a camera). A control is solid (not a flat patch of a
+//! surface cut out by such edges) and meets the rest along a seam in one plane (it stands on a
+//! face; a block filling the corner of a frame meets several). Pieces repeated many times over (the keys of a keyboard, the
+//! holes of a grille, screws), or dozens on one part, are surface detail, not controls: an
+//! appliance has a handful of controls.
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
@@ -32,9 +39,15 @@ pub struct PieceOptions {
     pub control_compactness_min: f64,
     /// ... and the part it was merged into holds at least this many times its area. Default 2.
     pub control_host_ratio: f64,
+    /// ... solid: its third principal extent is at least this share of its first (a flat patch
+    /// of a surface is not a control). Default 0.1.
+    pub control_thickness_min: f64,
     /// ... unless more than this many pieces of the same shape are candidates (a keyboard's keys,
     /// a grille). Default 16.
     pub control_copies_max: usize,
+    /// ... or more than this many candidates sit on the same part (studs, rivets, keys of many
+    /// shapes: surface detail). Default 32.
+    pub control_per_host_max: usize,
 }
 
 /// A part with at least this share of its area inside one piece was carved out of it.
@@ -48,7 +61,9 @@ impl Default for PieceOptions {
             control_area_fraction_min: 1e-5,
             control_compactness_min: 0.5,
             control_host_ratio: 2.0,
+            control_thickness_min: 0.1,
             control_copies_max: 16,
+            control_per_host_max: 32,
         }
     }
 }
@@ -78,6 +93,61 @@ pub fn mesh_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
         .triangles
         .iter()
         .map(|t| uf.find(welded[t[0] as usize]))
+        .collect();
+    relabel_by_first_face(&roots)
+}
+
+/// Pieces of `mesh` joined only across manifold edges: two faces are in one piece when a chain
+/// of edges each shared by exactly two faces links them (faces over the same three welded
+/// vertices, the two sides of a double-sided surface, count once). Where one surface meets
+/// another along a line the other's faces also use (a button's wall standing on a panel, a door
+/// welded to its frame along a seam the frame's faces continue across), the edge is shared by
+/// three or more faces and the two are separate pieces.
+#[must_use]
+pub fn manifold_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
+    let welded = welded_vertex_ids(mesh);
+    let faces = mesh.triangle_count();
+    // One face stands for every face over the same welded vertices.
+    let mut keyed: Vec<([u32; 3], u32)> = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(f, t)| {
+            let mut key = t.map(|v| welded[v as usize]);
+            key.sort_unstable();
+            (key, u32::try_from(f).unwrap_or(u32::MAX))
+        })
+        .collect();
+    keyed.sort_unstable();
+    let mut uf = UnionFind::new(faces);
+    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(faces * 3);
+    for (i, &(key, f)) in keyed.iter().enumerate() {
+        if i > 0 && keyed[i - 1].0 == key {
+            uf.union(keyed[i - 1].1, f);
+            continue;
+        }
+        let [a, b, c] = key;
+        for (u, v) in [(a, b), (b, c), (a, c)] {
+            if u != v {
+                edges.push((u, v, f));
+            }
+        }
+    }
+    edges.sort_unstable();
+    let mut start = 0;
+    while start < edges.len() {
+        let (u, v, _) = edges[start];
+        let mut end = start + 1;
+        while end < edges.len() && edges[end].0 == u && edges[end].1 == v {
+            end += 1;
+        }
+        if end - start == 2 {
+            uf.union(edges[start].2, edges[start + 1].2);
+        }
+        start = end;
+    }
+    let roots: Vec<u32> = (0..u32::try_from(faces).unwrap_or(u32::MAX))
+        .map(|f| uf.find(f))
         .collect();
     relabel_by_first_face(&roots)
 }
@@ -147,9 +217,16 @@ pub fn respect_pieces(
     for (f, &p) in labels.iter().enumerate() {
         part_area_m2[p as usize] += face_area_m2[f];
     }
-    // Candidates: small compact pieces inside a much larger part, with their shape.
-    let mut candidates: Vec<(usize, Shape)> = Vec::new();
-    for (i, faces) in faces_of.iter().enumerate() {
+    // Candidates: small compact solid pieces (split at edges three or more faces share, so a
+    // button welded onto its panel is one) inside a much larger part, with their shape.
+    let (control_piece, control_pieces) = manifold_pieces(mesh);
+    let mut control_faces_of: Vec<Vec<usize>> = vec![Vec::new(); control_pieces];
+    for (f, &p) in control_piece.iter().enumerate() {
+        control_faces_of[p as usize].push(f);
+    }
+    let seams = Seams::of(mesh, &control_piece);
+    let mut candidates: Vec<(usize, usize, Shape)> = Vec::new();
+    for (i, faces) in control_faces_of.iter().enumerate() {
         let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
         let host = labels[faces[0]] as usize;
         let small = area_m2 < options.control_area_fraction_max * total_m2
@@ -158,20 +235,27 @@ pub fn respect_pieces(
             continue;
         }
         let shape = Shape::of(mesh, faces);
-        if shape.compactness() >= options.control_compactness_min {
-            candidates.push((i, shape));
+        if shape.compactness() >= options.control_compactness_min
+            && shape.thickness() >= options.control_thickness_min
+            && seams.stands_on_one_face(mesh, faces)
+        {
+            candidates.push((i, host, shape));
         }
     }
+    let mut per_host = vec![0usize; parts];
+    for &(_, host, _) in &candidates {
+        per_host[host] += 1;
+    }
     let mut next = u32::try_from(parts).unwrap_or(u32::MAX);
-    for (i, shape) in &candidates {
+    for (i, host, shape) in &candidates {
         let copies = candidates
             .iter()
-            .filter(|(_, other)| other.same_as(shape))
+            .filter(|(_, _, other)| other.same_as(shape))
             .count();
-        if copies > options.control_copies_max {
+        if copies > options.control_copies_max || per_host[*host] > options.control_per_host_max {
             continue;
         }
-        let faces = &faces_of[*i];
+        let faces = &control_faces_of[*i];
         for &f in faces {
             labels[f] = next;
         }
@@ -181,6 +265,60 @@ pub fn respect_pieces(
     let (labels, count) = relabel_by_first_face(&labels);
     (labels, count, report)
 }
+
+/// Where pieces split at shared edges still share vertices with other pieces.
+struct Seams {
+    welded: Vec<u32>,
+    shared: Vec<bool>,
+}
+
+impl Seams {
+    fn of(mesh: &TriMesh, piece: &[u32]) -> Self {
+        let welded = welded_vertex_ids(mesh);
+        let mut owner = vec![u32::MAX; mesh.positions.len()];
+        let mut shared = vec![false; mesh.positions.len()];
+        for (triangle, &p) in mesh.triangles.iter().zip(piece) {
+            for v in triangle.map(|v| welded[v as usize] as usize) {
+                if owner[v] == u32::MAX {
+                    owner[v] = p;
+                } else if owner[v] != p {
+                    shared[v] = true;
+                }
+            }
+        }
+        Self { welded, shared }
+    }
+
+    /// Whether the piece made of `faces` meets the rest of its welded piece, if at all, along a
+    /// seam in one plane (a button standing on its panel) rather than across several faces (a
+    /// block filling the corner of a frame).
+    fn stands_on_one_face(&self, mesh: &TriMesh, faces: &[usize]) -> bool {
+        let mut points: Vec<DVec3> = faces
+            .iter()
+            .flat_map(|&f| mesh.triangles[f])
+            .map(|v| self.welded[v as usize])
+            .filter(|&w| self.shared[w as usize])
+            .map(|w| mesh.positions[w as usize])
+            .collect();
+        points.sort_by(|a, b| {
+            a.to_array()
+                .partial_cmp(&b.to_array())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        points.dedup();
+        if points.len() < 3 {
+            return true;
+        }
+        let extents = principal_axes(&points).map(|d| {
+            let (lo, hi) = projection_range(&points, d);
+            hi - lo
+        });
+        extents[2] <= SEAM_FLATNESS_MAX * extents[0]
+    }
+}
+
+/// A seam is in one plane when its thickness is at most this share of its length.
+const SEAM_FLATNESS_MAX: f64 = 0.1;
 
 /// Index of the largest value (the first on ties).
 fn majority(values: &[f64]) -> u32 {
@@ -220,6 +358,15 @@ impl Shape {
     fn compactness(&self) -> f64 {
         if self.extents_m[0] > 0.0 {
             self.extents_m[1] / self.extents_m[0]
+        } else {
+            0.0
+        }
+    }
+
+    /// The third principal extent over the first (0 for a flat patch of a surface).
+    fn thickness(&self) -> f64 {
+        if self.extents_m[0] > 0.0 {
+            self.extents_m[2] / self.extents_m[0]
         } else {
             0.0
         }
@@ -282,5 +429,71 @@ mod tests {
         ]);
         let (_, count, report) = respect_pieces(&mesh, &[0u32; 24], &PieceOptions::default());
         assert_eq!((count, report.controls_kept), (1, 0));
+    }
+
+    /// A double-sided flat panel (a 24 x 24 grid of vertices 1 apart in z = 0, every triangle
+    /// also given reversed) with a button (four walls 0.3 high and a top) standing on one cell:
+    /// the walls' foot vertices are the panel's own, so the two are one welded piece. Returns
+    /// the mesh and the panel's face count (the button's faces come after).
+    fn panel_with_welded_button() -> (TriMesh, usize) {
+        const N: u32 = 24;
+        let mut positions: Vec<DVec3> = (0..N * N)
+            .map(|i| DVec3::new(f64::from(i % N), f64::from(i / N), 0.0))
+            .collect();
+        let mut triangles = Vec::new();
+        for y in 0..N - 1 {
+            for x in 0..N - 1 {
+                let (a, b) = (y * N + x, y * N + x + 1);
+                let (c, d) = (b + N, a + N);
+                for t in [[a, b, c], [a, c, d]] {
+                    triangles.push(t);
+                    triangles.push([t[0], t[2], t[1]]);
+                }
+            }
+        }
+        let panel_faces = triangles.len();
+        let corner = 11 * N + 11;
+        let foot = [corner, corner + 1, corner + N + 1, corner + N];
+        let first_top = u32::try_from(positions.len()).unwrap();
+        for &v in &foot {
+            let p = positions[v as usize];
+            positions.push(p + DVec3::Z * 0.3);
+        }
+        let top = [first_top, first_top + 1, first_top + 2, first_top + 3];
+        for k in 0..4 {
+            let (a, b) = (foot[k], foot[(k + 1) % 4]);
+            triangles.push([a, b, top[(k + 1) % 4]]);
+            triangles.push([a, top[(k + 1) % 4], top[k]]);
+        }
+        triangles.push([top[0], top[1], top[2]]);
+        triangles.push([top[0], top[2], top[3]]);
+        (TriMesh::new(positions, triangles).unwrap(), panel_faces)
+    }
+
+    #[test]
+    fn a_button_welded_onto_a_panel_is_a_manifold_piece_of_its_own() {
+        let (mesh, panel_faces) = panel_with_welded_button();
+        assert_eq!(mesh_pieces(&mesh).1, 1);
+        let (piece, count) = manifold_pieces(&mesh);
+        // The panel, the patch under the button (its edges are shared with the walls too), the
+        // button; both sides of the double-sided panel are one piece.
+        assert_eq!(count, 3, "{piece:?}");
+        let button = piece[panel_faces];
+        assert!(piece[panel_faces..].iter().all(|&p| p == button));
+        let under = piece[..panel_faces].iter().filter(|&&p| p != piece[0]);
+        assert!(under.clone().all(|&p| p != button));
+        assert_eq!(under.count(), 4);
+    }
+
+    #[test]
+    fn a_welded_button_is_kept_as_a_control() {
+        let (mesh, panel_faces) = panel_with_welded_button();
+        let (labels, count, report) = respect_pieces(
+            &mesh,
+            &vec![0u32; mesh.triangle_count()],
+            &PieceOptions::default(),
+        );
+        assert_eq!((count, report.controls_kept), (2, 1), "{labels:?}");
+        assert!(labels[panel_faces..].iter().all(|&l| l != labels[0]));
     }
 }
