@@ -10,9 +10,9 @@
 //! holds more of the piece, except a round part carved out of the piece whose rest is not
 //! round about the same line (a wheel or a switch welded to its mount), which can spin.
 //!
-//! Controls are looked for among finer pieces, split where three or more faces share an edge:
-//! a button modelled onto its panel shares the panel's vertices, but its walls stand on the
-//! panel along edges the panel's own faces continue across (on the shared objects this finds
+//! Controls are small pieces, and inside pieces too large to be one, finer pieces split where
+//! three or more faces share an edge: a button modelled onto its panel shares the panel's
+//! vertices, but its walls stand on the panel along edges the panel's own faces continue across (on the shared objects this finds
 //! the welded buttons of a dishwasher and a camera). A control is solid (not a flat patch of a
 //! surface cut out by such edges) and meets the rest along a seam in one plane (it stands on a
 //! face; a block filling the corner of a frame meets several). Pieces repeated many times over (the keys of a keyboard, the
@@ -217,16 +217,30 @@ pub fn respect_pieces(
     for (f, &p) in labels.iter().enumerate() {
         part_area_m2[p as usize] += face_area_m2[f];
     }
-    // Candidates: small compact solid pieces (split at edges three or more faces share, so a
-    // button welded onto its panel is one) inside a much larger part, with their shape.
+    // Candidates: small compact solid pieces inside a much larger part, with their shape. A
+    // welded piece too large to be a control is looked into: split at edges three or more faces
+    // share, a button modelled onto its panel is a piece of its own.
     let (control_piece, control_pieces) = manifold_pieces(mesh);
-    let mut control_faces_of: Vec<Vec<usize>> = vec![Vec::new(); control_pieces];
+    let mut sub_pieces: Vec<Vec<usize>> = vec![Vec::new(); control_pieces];
     for (f, &p) in control_piece.iter().enumerate() {
-        control_faces_of[p as usize].push(f);
+        sub_pieces[p as usize].push(f);
     }
+    let piece_area_m2: Vec<f64> = faces_of
+        .iter()
+        .map(|faces| faces.iter().map(|&f| face_area_m2[f]).sum())
+        .collect();
+    let too_large = |q: usize| piece_area_m2[q] >= options.control_area_fraction_max * total_m2;
+    let welded_sets = sub_pieces
+        .into_iter()
+        .filter(|faces| too_large(piece[faces[0]] as usize))
+        .map(|faces| (faces, true));
+    let whole_sets = (0..pieces)
+        .filter(|&q| !too_large(q))
+        .map(|q| (faces_of[q].clone(), false));
+    let sets: Vec<(Vec<usize>, bool)> = whole_sets.chain(welded_sets).collect();
     let seams = Seams::of(mesh, &control_piece);
     let mut candidates: Vec<(usize, usize, Shape)> = Vec::new();
-    for (i, faces) in control_faces_of.iter().enumerate() {
+    for (i, (faces, welded)) in sets.iter().enumerate() {
         let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
         let host = labels[faces[0]] as usize;
         let small = area_m2 < options.control_area_fraction_max * total_m2
@@ -237,7 +251,7 @@ pub fn respect_pieces(
         let shape = Shape::of(mesh, faces);
         if shape.compactness() >= options.control_compactness_min
             && shape.thickness() >= options.control_thickness_min
-            && seams.stands_on_one_face(mesh, faces)
+            && (!welded || seams.stands_on_one_face(mesh, faces))
         {
             candidates.push((i, host, shape));
         }
@@ -255,8 +269,7 @@ pub fn respect_pieces(
         if copies > options.control_copies_max || per_host[*host] > options.control_per_host_max {
             continue;
         }
-        let faces = &control_faces_of[*i];
-        for &f in faces {
+        for &f in &sets[*i].0 {
             labels[f] = next;
         }
         next += 1;
