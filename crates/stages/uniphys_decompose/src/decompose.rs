@@ -1,7 +1,7 @@
 //! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
-//! panels carrying a handle split back out of it, second split, small-part merge, the mesh's pieces made whole and small controls kept, hidden
-//! parts merged into the largest.
+//! panels carrying a handle split back out of it, second split, small-part merge, the mesh's
+//! pieces made whole and small controls kept, hidden parts merged into the largest.
 
 use std::time::Instant;
 

@@ -24,8 +24,8 @@ pub struct CandidateLoss {
 /// Wall time of one step.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepTiming {
-    /// Step name: "perceive", "candidates", "select", "refine", "merge", "refine_again",
-    /// "small_parts", "pieces".
+    /// Step name: "perceive", "candidates", "select", "refine", "merge", "handles",
+    /// "refine_again", "small_parts", "pieces", "hidden".
     pub step: String,
     /// Seconds.
     pub secs: f64,
