@@ -12,7 +12,7 @@
 //! with more such pieces than a door carries (a keyboard's keys, a grille's bars) is not taken
 //! for a door.
 
-use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
+use uniphys_geometry::{Aabb, DVec3, TriMesh, principal_axes, projection_range};
 
 use crate::candidates::relabel_by_first_face;
 use crate::pieces::mesh_pieces;
@@ -120,7 +120,7 @@ struct Scene {
     piece: Vec<u32>,
     faces_of: Vec<Vec<usize>>,
     piece_area_m2: Vec<f64>,
-    piece_bounds: Vec<(DVec3, DVec3)>,
+    piece_bounds: Vec<Aabb>,
     total_m2: f64,
     diagonal_m: f64,
     centre: DVec3,
@@ -131,15 +131,13 @@ impl Scene {
         let (piece, pieces) = mesh_pieces(mesh);
         let mut faces_of = vec![Vec::new(); pieces];
         let mut piece_area_m2 = vec![0.0f64; pieces];
-        let mut piece_bounds = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); pieces];
+        let mut piece_bounds = vec![Aabb::EMPTY; pieces];
         for (f, &q) in piece.iter().enumerate() {
             let q = q as usize;
             faces_of[q].push(f);
             piece_area_m2[q] += mesh.face_area(f);
             for corner in mesh.corners(f) {
-                let (lo, hi) = &mut piece_bounds[q];
-                *lo = lo.min(corner);
-                *hi = hi.max(corner);
+                piece_bounds[q] = piece_bounds[q].grown(corner);
             }
         }
         let bounds = mesh.bounds();
@@ -150,7 +148,7 @@ impl Scene {
             piece_area_m2,
             piece_bounds,
             diagonal_m: bounds.diagonal(),
-            centre: (bounds.min + bounds.max) * 0.5,
+            centre: bounds.center(),
         }
     }
 
@@ -219,7 +217,7 @@ impl Scene {
 struct Panel {
     axes: [DVec3; 3],
     ranges: [(f64, f64); 3],
-    bounds: (DVec3, DVec3),
+    bounds: Aabb,
 }
 
 impl Panel {
@@ -238,11 +236,7 @@ impl Panel {
             axes[2] = -axes[2];
         }
         let ranges = axes.map(|a| projection_range(&points, a));
-        let bounds = points
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-                (lo.min(p), hi.max(p))
-            });
+        let bounds = Aabb::from_points(&points);
         Some(Self {
             axes,
             ranges,
@@ -264,9 +258,10 @@ impl Panel {
     }
 
     /// Whether a box comes within `margin_m` of the panel's box.
-    fn near_box(&self, (lo, hi): (DVec3, DVec3), margin_m: f64) -> bool {
+    fn near_box(&self, other: Aabb, margin_m: f64) -> bool {
         let grow = DVec3::splat(margin_m);
-        (lo - grow).cmple(self.bounds.1).all() && (hi + grow).cmpge(self.bounds.0).all()
+        (other.min - grow).cmple(self.bounds.max).all()
+            && (other.max + grow).cmpge(self.bounds.min).all()
     }
 
     /// Whether at least half of `points` lie over the panel's outline, beyond its outer face by
@@ -315,13 +310,14 @@ impl Panel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::segment::test_meshes::{CUBOID_FACES, boxes};
 
-    fn boxes(boxes: &[(DVec3, DVec3)]) -> TriMesh {
-        let meshes: Vec<TriMesh> = boxes
-            .iter()
-            .map(|&(lo, hi)| TriMesh::cuboid(lo, hi))
+    /// `parts` as boxes merged into one mesh, with the part of every face.
+    fn labelled(parts: &[(DVec3, DVec3)]) -> (TriMesh, Vec<u32>) {
+        let refined = (0..parts.len())
+            .flat_map(|p| std::iter::repeat_n(u32::try_from(p).unwrap(), CUBOID_FACES))
             .collect();
-        TriMesh::merge(&meshes)
+        (boxes(parts), refined)
     }
 
     /// A cabinet body (a box) with a door panel on its front (+x) and, optionally, a bar handle
@@ -334,11 +330,7 @@ mod tests {
         if handle {
             parts.push((DVec3::new(0.52, 0.5, 0.4), DVec3::new(0.55, 0.53, 0.6)));
         }
-        let mesh = boxes(&parts);
-        let refined = (0..parts.len())
-            .flat_map(|p| std::iter::repeat_n(u32::try_from(p).unwrap(), 12))
-            .collect();
-        (mesh, refined)
+        labelled(&parts)
     }
 
     #[test]
@@ -367,10 +359,7 @@ mod tests {
         for z in [0.2, 0.5, 0.8] {
             parts.push((DVec3::new(0.52, 0.3, z), DVec3::new(0.54, 0.32, z + 0.02)));
         }
-        let mesh = boxes(&parts);
-        let refined: Vec<u32> = (0..parts.len())
-            .flat_map(|p| std::iter::repeat_n(u32::try_from(p).unwrap(), 12))
-            .collect();
+        let (mesh, refined) = labelled(&parts);
         let (_, count, kept) = keep_handled_panels(
             &mesh,
             &refined,

@@ -82,7 +82,11 @@ pub struct PieceReport {
 /// Connected pieces of `mesh`: the piece of every face (numbered by smallest face) and the count.
 #[must_use]
 pub fn mesh_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
-    let welded = welded_vertex_ids(mesh);
+    pieces_of(mesh, &welded_vertex_ids(mesh))
+}
+
+/// [`mesh_pieces`] with the welded vertex ids given.
+fn pieces_of(mesh: &TriMesh, welded: &[u32]) -> (Vec<u32>, usize) {
     let mut uf = UnionFind::new(mesh.positions.len());
     for triangle in &mesh.triangles {
         let [a, b, c] = triangle.map(|v| welded[v as usize]);
@@ -105,7 +109,11 @@ pub fn mesh_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
 /// three or more faces and the two are separate pieces.
 #[must_use]
 pub fn manifold_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
-    let welded = welded_vertex_ids(mesh);
+    manifold_pieces_of(mesh, &welded_vertex_ids(mesh))
+}
+
+/// [`manifold_pieces`] with the welded vertex ids given.
+fn manifold_pieces_of(mesh: &TriMesh, welded: &[u32]) -> (Vec<u32>, usize) {
     let faces = mesh.triangle_count();
     // One face stands for every face over the same welded vertices.
     let mut keyed: Vec<([u32; 3], u32)> = mesh
@@ -161,7 +169,8 @@ pub fn respect_pieces(
     face_part: &[u32],
     options: &PieceOptions,
 ) -> (Vec<u32>, usize, PieceReport) {
-    let (piece, pieces) = mesh_pieces(mesh);
+    let welded = welded_vertex_ids(mesh);
+    let (piece, pieces) = pieces_of(mesh, &welded);
     let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
     let face_area_m2: Vec<f64> = (0..mesh.triangle_count())
         .map(|f| mesh.face_area(f))
@@ -220,7 +229,7 @@ pub fn respect_pieces(
     // Candidates: small compact solid pieces inside a much larger part, with their shape. A
     // welded piece too large to be a control is looked into: split at edges three or more faces
     // share, a button modelled onto its panel is a piece of its own.
-    let (control_piece, control_pieces) = manifold_pieces(mesh);
+    let (control_piece, control_pieces) = manifold_pieces_of(mesh, &welded);
     let mut sub_pieces: Vec<Vec<usize>> = vec![Vec::new(); control_pieces];
     for (f, &p) in control_piece.iter().enumerate() {
         sub_pieces[p as usize].push(f);
@@ -230,17 +239,17 @@ pub fn respect_pieces(
         .map(|faces| faces.iter().map(|&f| face_area_m2[f]).sum())
         .collect();
     let too_large = |q: usize| piece_area_m2[q] >= options.control_area_fraction_max * total_m2;
-    let welded_sets = sub_pieces
-        .into_iter()
-        .filter(|faces| too_large(piece[faces[0]] as usize))
-        .map(|faces| (faces, true));
     let whole_sets = (0..pieces)
         .filter(|&q| !too_large(q))
-        .map(|q| (faces_of[q].clone(), false));
-    let sets: Vec<(Vec<usize>, bool)> = whole_sets.chain(welded_sets).collect();
-    let seams = Seams::of(mesh, &control_piece);
+        .map(|q| (faces_of[q].as_slice(), false));
+    let welded_sets = sub_pieces
+        .iter()
+        .filter(|faces| too_large(piece[faces[0]] as usize))
+        .map(|faces| (faces.as_slice(), true));
+    let sets: Vec<(&[usize], bool)> = whole_sets.chain(welded_sets).collect();
+    let seams = Seams::of(mesh, &welded, &control_piece);
     let mut candidates: Vec<(usize, usize, Shape)> = Vec::new();
-    for (i, (faces, welded)) in sets.iter().enumerate() {
+    for (i, &(faces, welded)) in sets.iter().enumerate() {
         let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
         let host = labels[faces[0]] as usize;
         let small = area_m2 < options.control_area_fraction_max * total_m2
@@ -269,7 +278,7 @@ pub fn respect_pieces(
         if copies > options.control_copies_max || per_host[*host] > options.control_per_host_max {
             continue;
         }
-        for &f in &sets[*i].0 {
+        for &f in sets[*i].0 {
             labels[f] = next;
         }
         next += 1;
@@ -280,14 +289,13 @@ pub fn respect_pieces(
 }
 
 /// Where pieces split at shared edges still share vertices with other pieces.
-struct Seams {
-    welded: Vec<u32>,
+struct Seams<'a> {
+    welded: &'a [u32],
     shared: Vec<bool>,
 }
 
-impl Seams {
-    fn of(mesh: &TriMesh, piece: &[u32]) -> Self {
-        let welded = welded_vertex_ids(mesh);
+impl<'a> Seams<'a> {
+    fn of(mesh: &TriMesh, welded: &'a [u32], piece: &[u32]) -> Self {
         let mut owner = vec![u32::MAX; mesh.positions.len()];
         let mut shared = vec![false; mesh.positions.len()];
         for (triangle, &p) in mesh.triangles.iter().zip(piece) {
@@ -306,19 +314,15 @@ impl Seams {
     /// seam in one plane (a button standing on its panel) rather than across several faces (a
     /// block filling the corner of a frame).
     fn stands_on_one_face(&self, mesh: &TriMesh, faces: &[usize]) -> bool {
-        let mut points: Vec<DVec3> = faces
+        let mut seam: Vec<u32> = faces
             .iter()
             .flat_map(|&f| mesh.triangles[f])
             .map(|v| self.welded[v as usize])
             .filter(|&w| self.shared[w as usize])
-            .map(|w| mesh.positions[w as usize])
             .collect();
-        points.sort_by(|a, b| {
-            a.to_array()
-                .partial_cmp(&b.to_array())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        points.dedup();
+        seam.sort_unstable();
+        seam.dedup();
+        let points: Vec<DVec3> = seam.iter().map(|&w| mesh.positions[w as usize]).collect();
         if points.len() < 3 {
             return true;
         }
@@ -402,14 +406,7 @@ mod tests {
     use uniphys_geometry::TriMesh;
 
     use super::*;
-
-    fn boxes(boxes: &[(DVec3, DVec3)]) -> TriMesh {
-        let meshes: Vec<TriMesh> = boxes
-            .iter()
-            .map(|&(lo, hi)| TriMesh::cuboid(lo, hi))
-            .collect();
-        TriMesh::merge(&meshes)
-    }
+    use crate::segment::test_meshes::boxes;
 
     #[test]
     fn a_cut_piece_is_made_whole_and_a_knob_on_a_panel_is_kept() {

@@ -71,19 +71,27 @@ fn ious_of_kind(motion: &[Option<JointKind>], ious: &[f64], kind: JointKind) -> 
         .collect()
 }
 
+/// Decomposes `name` and checks that each of its `count` true parts moving on a joint of
+/// `kind` (named `what` in the message) is recovered (area IoU >= 0.5); returns the
+/// decomposition.
+fn assert_all_recovered(name: &str, kind: JointKind, count: usize, what: &str) -> Decomposition {
+    let (mesh, truth, motion, decomposition) = decomposed(name);
+    let ious = true_part_ious(&mesh, &truth, &decomposition);
+    let moving = ious_of_kind(&motion, &ious, kind);
+    assert_eq!(moving.len(), count);
+    assert!(
+        moving.iter().all(|&iou| iou >= 0.5),
+        "{what} IoUs {moving:?}; summary {:?}",
+        decomposition.summary
+    );
+    decomposition
+}
+
 #[test]
 fn the_knobs_of_an_oven_are_parts_of_their_own() {
     // Eight knobs (continuous joints) on the control panel of an oven with a drawer. Before the
     // mesh's pieces were used, all eight vanished into the body.
-    let (mesh, truth, motion, decomposition) = decomposed("kitchen-101921");
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let knobs = ious_of_kind(&motion, &ious, JointKind::Continuous);
-    assert_eq!(knobs.len(), 8);
-    assert!(
-        knobs.iter().all(|&iou| iou >= 0.5),
-        "knob IoUs {knobs:?}; summary {:?}",
-        decomposition.summary
-    );
+    let decomposition = assert_all_recovered("kitchen-101921", JointKind::Continuous, 8, "knob");
     assert!(decomposition.summary.controls_kept >= 8);
 }
 
@@ -92,15 +100,7 @@ fn the_wheels_of_a_cart_are_not_merged_into_its_body() {
     // Four wheels (continuous joints), each a few percent of the surface and attached to the
     // cart's frame: the small-part merge joined them to the frame like handles to a drawer
     // (0 of 4 recovered) until a round part was kept for the spin it can make.
-    let (mesh, truth, motion, decomposition) = decomposed("kitchen-101090");
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let wheels = ious_of_kind(&motion, &ious, JointKind::Continuous);
-    assert_eq!(wheels.len(), 4);
-    assert!(
-        wheels.iter().all(|&iou| iou >= 0.5),
-        "wheel IoUs {wheels:?}; summary {:?}",
-        decomposition.summary
-    );
+    assert_all_recovered("kitchen-101090", JointKind::Continuous, 4, "wheel");
 }
 
 #[test]
@@ -182,15 +182,7 @@ fn the_doors_that_carry_handles_are_not_merged_into_the_cabinet() {
     // Four flush doors on a cabinet: every view shows them as one region with the body, so the
     // merge joined two of them to it (2 of 4 recovered) until a panel with a handle standing
     // off its outer face was kept apart with its handle.
-    let (mesh, truth, motion, decomposition) = decomposed("kitchen-41085");
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let doors = ious_of_kind(&motion, &ious, JointKind::Revolute);
-    assert_eq!(doors.len(), 4);
-    assert!(
-        doors.iter().all(|&iou| iou >= 0.5),
-        "door IoUs {doors:?}; summary {:?}",
-        decomposition.summary
-    );
+    let decomposition = assert_all_recovered("kitchen-41085", JointKind::Revolute, 4, "door");
     assert!(decomposition.summary.panels_kept_apart >= 2);
 }
 
@@ -199,13 +191,5 @@ fn the_buttons_welded_onto_a_dishwasher_panel_are_parts_of_their_own() {
     // Four push buttons (prismatic joints) modelled onto the control panel: they share its
     // vertices, so the welded pieces hid them (1 of 5 movable parts recovered) until controls
     // were looked for among pieces split where three faces share an edge.
-    let (mesh, truth, motion, decomposition) = decomposed("kitchen-12428");
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let buttons = ious_of_kind(&motion, &ious, JointKind::Prismatic);
-    assert_eq!(buttons.len(), 4);
-    assert!(
-        buttons.iter().all(|&iou| iou >= 0.5),
-        "button IoUs {buttons:?}; summary {:?}",
-        decomposition.summary
-    );
+    assert_all_recovered("kitchen-12428", JointKind::Prismatic, 4, "button");
 }

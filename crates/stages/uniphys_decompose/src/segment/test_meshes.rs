@@ -2,6 +2,15 @@
 
 use uniphys_geometry::{DVec3, TriMesh};
 
+/// Axis-aligned boxes `(lo, hi)` merged into one mesh, 12 faces each in order.
+pub(crate) fn boxes(boxes: &[(DVec3, DVec3)]) -> TriMesh {
+    let meshes: Vec<TriMesh> = boxes
+        .iter()
+        .map(|&(lo, hi)| TriMesh::cuboid(lo, hi))
+        .collect();
+    TriMesh::merge(&meshes)
+}
+
 /// Faces of one cuboid made by [`TriMesh::cuboid`].
 pub(crate) const CUBOID_FACES: usize = 12;
 
