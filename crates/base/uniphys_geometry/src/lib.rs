@@ -1,6 +1,6 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
 //! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions
-//! between parts, plane fitting, k-means, optimal one-to-one assignment, convex decomposition,
+//! between parts, plane fitting, convex outlines in a plane, k-means, optimal one-to-one assignment, convex decomposition,
 //! and the sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
 //! a given seed.
 //!
@@ -25,6 +25,7 @@ mod mass;
 mod mesh;
 mod mesh_asset;
 mod orientation;
+mod outline;
 mod plane;
 mod rng;
 mod sampling;
@@ -55,6 +56,7 @@ pub use mass::MassProperties;
 pub use mesh::TriMesh;
 pub use mesh_asset::{MeshAsset, MeshPart, SurfaceMaterial, Texture};
 pub use orientation::{box_axes, principal_axes, projection_range};
+pub use outline::{convex_outline, outline_area};
 pub use plane::{Plane, fit_plane, fit_plane_ransac};
 pub use rng::SplitMix64;
 pub use sampling::{SurfaceSamples, sample_points, sample_surface};

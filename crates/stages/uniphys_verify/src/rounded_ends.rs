@@ -2,7 +2,7 @@
 //! lever's end is an arc about the line it turns on, so the circle through its outline there,
 //! seen along the axis, is centred on the hinge.
 
-use uniphys_geometry::{Aabb, DMat3, DVec3, projection_range};
+use uniphys_geometry::{Aabb, DMat3, DVec3, convex_outline, projection_range};
 
 use crate::candidates::{across_axis, distinct_lines};
 
@@ -77,40 +77,6 @@ pub fn rounded_end_pivots(part_points: &[DVec3], axis: DVec3, part_axes: [DVec3;
     distinct_lines(&out, axis, 5e-3 * diagonal)
 }
 
-/// The convex outline of points in a plane, counter-clockwise, without repeated points
-/// (Andrew's monotone chain).
-fn convex_outline(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mut sorted = points.to_vec();
-    sorted.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    sorted.dedup();
-    if sorted.len() < 3 {
-        return sorted;
-    }
-    let turn = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * sorted.len());
-    for pass in [false, true] {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &[f64; 2]>> = if pass {
-            Box::new(sorted.iter().rev())
-        } else {
-            Box::new(sorted.iter())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2
-                && turn(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        // The last point of each chain starts the other.
-        hull.pop();
-    }
-    hull
-}
-
 /// Points along a closed polygon's edges, at most `step` apart (its vertices included).
 fn densify(polygon: &[[f64; 2]], step: f64) -> Vec<[f64; 2]> {
     let mut out = Vec::new();
@@ -180,17 +146,6 @@ mod tests {
             .map(|k| [f64::from(k), 2.0 * f64::from(k)])
             .collect();
         assert!(fit_circle(&line).is_none());
-    }
-
-    #[test]
-    fn the_outline_of_a_square_with_inner_points_is_its_four_corners() {
-        let mut points = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        points.extend([[0.5, 0.5], [0.2, 0.7], [0.5, 0.0]]);
-        let hull = convex_outline(&points);
-        assert_eq!(hull.len(), 4, "{hull:?}");
-        for corner in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]] {
-            assert!(hull.contains(&corner), "{corner:?} missing from {hull:?}");
-        }
     }
 
     #[test]
