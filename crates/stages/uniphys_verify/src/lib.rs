@@ -6,7 +6,7 @@
 //!   gap to its parent and its direction against the face it sits on, a turning axis held by
 //!   its part, a panel's hinge away from its handle ([`panel_handle`]), a panel turned in its
 //!   own plane only when round or held across both faces ([`InPlaneTurn`]), nothing taken
-//!   below the ground the object stands on, and interpenetration of convex colliders (a
+//!   below the ground the object stands on (when it rests on one: `ground`), and interpenetration of convex colliders (a
 //!   measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
 //!   sweep, which rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
 //!   [`SweepMetrics::severity`]);
@@ -30,6 +30,7 @@ mod correct;
 mod crossing;
 mod error;
 mod fit;
+mod ground;
 mod handle;
 mod held;
 mod in_plane;
@@ -54,6 +55,7 @@ pub use candidates::{
 };
 pub use correct::{Correction, correct_joint};
 pub use error::{VerifyError, VerifyResult};
+pub use ground::{FOOTPRINT_SHARE_MIN, GROUND_TOUCH_FRACTION, stands_on_ground};
 pub use handle::{PANEL_SLAB_RATIO, panel_handle};
 pub use in_plane::{InPlaneTurn, held_pivots};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};

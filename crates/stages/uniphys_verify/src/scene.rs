@@ -6,6 +6,7 @@ use uniphys_geometry::{Aabb, DVec3, TriMesh, sample_points};
 use uniphys_types::{Joint, PartId};
 
 use crate::crossing::Surfaces;
+use crate::ground::{GROUND_TOUCH_FRACTION, stands_on_ground};
 use crate::penetration::Colliders;
 use crate::{VerifyError, VerifyResult};
 
@@ -23,8 +24,9 @@ pub struct Scene {
     /// Centre of the whole object's bounds, object frame, metres.
     pub centre_m: DVec3,
     /// Height of the ground the object stands on: its lowest point at rest (the service frame
-    /// is Z up with the asset resting on the ground), metres.
-    pub ground_z_m: f64,
+    /// is Z up with the asset resting on the ground), metres; `None` when no part stands on it
+    /// ([`stands_on_ground`]: an object turned onto a corner or an edge).
+    pub ground_z_m: Option<f64>,
 }
 
 impl Scene {
@@ -52,11 +54,16 @@ impl Scene {
                 "the object has no extent; nothing to verify".to_owned(),
             ));
         }
-        let samples = meshes
+        let samples: Vec<Vec<DVec3>> = meshes
             .iter()
             .enumerate()
             .map(|(i, m)| sample_points(m, samples_per_part, 0x5eed_0000 + i as u64))
             .collect();
+        let floor_z_m = bounds.min.z + GROUND_TOUCH_FRACTION * diagonal_m;
+        let ground_z_m = samples
+            .iter()
+            .any(|points| stands_on_ground(points, floor_z_m))
+            .then_some(bounds.min.z);
         Ok(Self {
             samples,
             colliders: Colliders::new(colliders, bounds.center()),
@@ -64,7 +71,7 @@ impl Scene {
             areas_m2: meshes.iter().map(TriMesh::area).collect(),
             diagonal_m,
             centre_m: bounds.center(),
-            ground_z_m: bounds.min.z,
+            ground_z_m,
         })
     }
 
@@ -85,6 +92,17 @@ impl Scene {
     #[must_use]
     pub fn area_m2(&self, part: usize) -> f64 {
         self.areas_m2.get(part).copied().unwrap_or(0.0)
+    }
+
+    /// Whether `part` stands on the ground the object rests on ([`stands_on_ground`]).
+    #[must_use]
+    pub fn stands_on_ground(&self, part: usize) -> bool {
+        self.ground_z_m.is_some_and(|z| {
+            stands_on_ground(
+                &self.samples[part],
+                z + GROUND_TOUCH_FRACTION * self.diagonal_m,
+            )
+        })
     }
 
     /// Surface samples of the given parts, concatenated.

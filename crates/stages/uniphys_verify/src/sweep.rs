@@ -482,8 +482,10 @@ pub fn sweep(
             .map(|p| to_object.transform_point3(*p))
             .collect();
         crossings.advance(scene, &moved);
-        let lowest_z_m = moved.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
-        metrics.below_ground_m = metrics.below_ground_m.max(scene.ground_z_m - lowest_z_m);
+        if let Some(ground_z_m) = scene.ground_z_m {
+            let lowest_z_m = moved.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+            metrics.below_ground_m = metrics.below_ground_m.max(ground_z_m - lowest_z_m);
+        }
         if metrics.below_ground_coordinate.is_none()
             && metrics.below_ground_m > metrics.below_ground_max_m
         {

@@ -1,11 +1,12 @@
 //! Motions a sweep alone would pass, judged on plain shapes: a door spun in its own plane over
 //! the cabinet's front (like a clock hand), against a folding blade turning between its
 //! handle's scales and a round knob turning on its panel; a laptop's screen opened backwards
-//! through the ground the laptop stands on, against the same screen closing.
+//! through the ground the laptop stands on, against the same screen closing, and the laptop
+//! turned onto a corner, which rests on no ground.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use uniphys_geometry::{ConvexParams, DVec3, TriMesh, convex_decomposition};
+use uniphys_geometry::{ConvexParams, DMat4, DQuat, DVec3, TriMesh, convex_decomposition};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, edge_pivots, held_pivots, sweep};
 
@@ -207,6 +208,29 @@ fn the_same_screen_closing_onto_its_base_stays_above_the_ground() {
         &hinge([1.0, 0.0, 0.0], [0.0, 0.7, 0.04], -FRAC_PI_2, 0.0),
     );
     assert!(metrics.below_ground_m < 1e-6, "{metrics:?}");
+    assert!(
+        !reasons.iter().any(|r| r.contains("through the ground")),
+        "{reasons:?}"
+    );
+}
+
+#[test]
+fn a_laptop_turned_onto_a_corner_is_judged_against_no_ground() {
+    // The same laptop turned onto a corner of its base touches the plane under it at a point:
+    // it does not rest there, so that plane is no ground, and the screen opening backwards
+    // is judged by what it passes through alone.
+    let turn = DMat4::from_quat(DQuat::from_rotation_y(0.6) * DQuat::from_rotation_x(0.7));
+    let upright = [
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.7, 0.04)),
+        TriMesh::cuboid(DVec3::new(0.0, 0.68, 0.04), DVec3::new(1.0, 0.7, 0.74)),
+    ];
+    assert!(laptop().ground_z_m.is_some());
+    let turned = scene(upright.iter().map(|m| m.transformed(&turn)).collect());
+    assert_eq!(turned.ground_z_m, None);
+    let axis = turn.transform_vector3(DVec3::X).to_array();
+    let pivot = turn.transform_point3(DVec3::new(0.0, 0.7, 0.04)).to_array();
+    let (metrics, reasons) = judge(&turned, &hinge(axis, pivot, 0.0, 2.5));
+    assert!(metrics.below_ground_m < 1e-9, "{metrics:?}");
     assert!(
         !reasons.iter().any(|r| r.contains("through the ground")),
         "{reasons:?}"
