@@ -11,11 +11,12 @@
 //! 3. **Twist**: a part held by one small flat patch of contact (a stem: a faucet's lever, a
 //!    blade on its pin) twists about the patch's normal through its middle when that turn is
 //!    free by a quarter turn or more ([`crate::stem`]).
-//! 4. Otherwise every hinge line of the part's box (for each box axis, the 9 lines through its
-//!    corners, edge and face middles and centre, both directions) and every slide along a box axis
-//!    (its parent's box axis when within 5 degrees of it) is swept outward from rest. Each gets
-//!    its free range: how far it moves before it passes through another part, or (a hinge) its
-//!    axis leaves the parent, or (a slide) it loses contact with the parent.
+//! 4. Otherwise every hinge line of the part's box (for each box axis but a thin panel's
+//!    normal, the 9 lines through its corners, edge and face middles and centre, both
+//!    directions) and every slide along a box axis (its parent's box axis when within 5 degrees
+//!    of it) is swept outward from rest. Each gets its free range: how far it moves before it
+//!    passes through another part, or (a hinge) its axis leaves the parent, or (a slide) it
+//!    loses contact with the parent.
 //!    - A part that is not a thin panel (thickness at least 15 % of its width) and lies mostly
 //!      inside its parent's box (a drawer, a tray) slides when it can slide out of its opening:
 //!      along a box axis in which its parent encloses it least (within 5 % of its length of
@@ -471,11 +472,21 @@ fn toward_parent(scene: &Scene, mover: &Mover<'_>, child: &[DVec3], part: &PartB
 /// and every slide along a box axis (both directions) over the part's length along it.
 fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
     let mut out = Vec::new();
+    // A thin panel hinges about a line in its plane (a door, a lid, a screen). Turned about its
+    // own normal it would wheel round in its plane like a clock hand, which only round parts
+    // (spun) and parts held on a stem (twisted) do, and both are found before these lines.
+    let [thin, middle, _] = part.sorted_extents();
+    let normal = (thin < THIN_RATIO * middle).then(|| part.thinnest_axis());
     for k in 0..3 {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         let levels = |r: (f64, f64)| [r.0, 0.5 * (r.0 + r.1), r.1];
         let along = part.axes[k] * (0.5 * (part.ranges[k].0 + part.ranges[k].1));
-        for su in levels(part.ranges[u]) {
+        let hinge_levels = if normal == Some(k) {
+            Vec::new()
+        } else {
+            levels(part.ranges[u]).to_vec()
+        };
+        for su in hinge_levels {
             for sv in levels(part.ranges[v]) {
                 let pivot = along + part.axes[u] * su + part.axes[v] * sv;
                 for sign in [1.0, -1.0] {

@@ -22,6 +22,10 @@ const BIG_FRACTION: f64 = 0.5;
 /// A root candidate whose box is this many times every other's is the root whatever its solid
 /// volume.
 const BULKIER_RATIO: f64 = 2.0;
+/// A big part that does not stand on the ground is a root candidate only when its box is this
+/// many times that of every big part that does (a microwave whose door hangs open below it); a
+/// spout, a screen or a lens held above the ground by a base is not.
+const HANGING_BULK_RATIO: f64 = 4.0;
 
 /// Root, one joint per other part, and notes on every choice; the scene's error when the parts
 /// cannot be swept (an object without extent).
@@ -53,12 +57,14 @@ pub(crate) fn unnamed_joints(
     let mut sizes: Vec<f64> = (0..n)
         .map(|i| box_volume(&points[i], &boxes[i], scene.diagonal_m))
         .collect();
-    let most = (0..n)
-        .filter(|&i| big(i))
-        .map(|i| touches[i])
-        .max()
-        .unwrap_or(0);
-    let candidates: Vec<usize> = (0..n).filter(|&i| big(i) && touches[i] == most).collect();
+    let standing = |i: usize| scene.stands_on_ground(i);
+    let pool = root_pool(
+        &(0..n).filter(|&i| big(i)).collect::<Vec<_>>(),
+        &sizes,
+        &standing,
+    );
+    let most = pool.iter().map(|&i| touches[i]).max().unwrap_or(0);
+    let candidates: Vec<usize> = pool.into_iter().filter(|&i| touches[i] == most).collect();
     let root_part = root_among(&candidates, &sizes, parts);
     sizes[root_part] = f64::INFINITY;
     // How many of part i's samples touch part j.
@@ -71,7 +77,7 @@ pub(crate) fn unnamed_joints(
     let (root, parents) = build_tree_by_size(&sizes, &|i, j| contact[i][j], &|i, j| distance[i][j]);
     let mut joints = Vec::new();
     let mut notes = vec![format!(
-        "no part is named: {:?}, among the big parts the one touching the most big parts and then the bulkiest, is the root; every other part hangs from the bigger part it touches most, and its joint comes from its shape and sweeps of its motions",
+        "no part is named: {:?}, among the big parts (those standing on the ground, when any does) the one touching the most big parts and then the bulkiest, is the root; every other part hangs from the bigger part it touches most, and its joint comes from its shape and sweeps of its motions",
         parts[root.0 as usize].name
     )];
     for (i, parent) in parents.iter().enumerate() {
@@ -120,6 +126,25 @@ pub(crate) fn unnamed_joints(
         }));
     }
     Ok((root, joints, notes))
+}
+
+/// The big parts the root is chosen among: the object stands on its root, so those standing on
+/// the ground (a faucet's base, not its spout; a laptop's base, not its open screen), and any
+/// that does not but whose box is `HANGING_BULK_RATIO` times every standing one's (a body its
+/// open door hangs below); all of them when none stands.
+fn root_pool(big: &[usize], box_volumes: &[f64], standing: &dyn Fn(usize) -> bool) -> Vec<usize> {
+    let standing_bulk = big
+        .iter()
+        .filter(|&&i| standing(i))
+        .map(|&i| box_volumes[i])
+        .fold(f64::NEG_INFINITY, f64::max);
+    if standing_bulk == f64::NEG_INFINITY {
+        return big.to_vec();
+    }
+    big.iter()
+        .copied()
+        .filter(|&i| standing(i) || box_volumes[i] >= HANGING_BULK_RATIO * standing_bulk)
+        .collect()
 }
 
 /// Among root candidates, the one whose box is at least `BULKIER_RATIO` times every other's (a

@@ -286,3 +286,13 @@ fn a_wheel_under_a_cart_spins_about_its_axle() {
     assert_eq!(joint.kind, JointKind::Continuous, "{joint:#?}");
     assert!(axis(&joint).x.abs() > 0.99, "{joint:#?}");
 }
+
+#[test]
+fn a_spout_bulkier_than_its_base_hangs_from_the_base_the_object_stands_on() {
+    // A faucet: the base stands on the ground; the spout above it has twice the base's box and
+    // touches nothing else, so only the ground tells which part carries the other.
+    let base = cuboid(DVec3::new(-0.3, -0.3, 0.0), DVec3::new(0.3, 0.3, 0.15));
+    let spout = cuboid(DVec3::new(-0.3, -0.3, 0.15), DVec3::new(0.3, 0.5, 0.4));
+    let joint = joint_of_part_1(&[base, spout]);
+    assert_eq!(joint.parent, PartId(0), "{joint:#?}");
+}
