@@ -12,9 +12,10 @@
 //!   ([`part_mass_model`]); the walls' thickness calibrated by the kind's typical mass
 //!   ([`wall_factor`]);
 //! - joints ([`articulate`]): declared ones completed; when no part name says that it slides or
-//!   turns, from geometry alone (`unnamed`): the tree from size and contact (`tree`), and each
-//!   part's joint from its shape and sweeps of its candidate motions (`motion_search`): round
-//!   parts spin (`spin`), small ones are pushed or turned (`small_part`), panels hinge away from
+//!   turns, from geometry alone (`unnamed`): the tree from size, contact and the ground
+//!   (`tree`), and each part's joint from its shape and sweeps of its candidate motions
+//!   (`motion_search`): round parts spin (`spin`), small ones are pushed or turned
+//!   (`small_part`), panels hinge away from
 //!   their handle (`handle`: what stands out of the outer face against the face around it),
 //!   parts held by one small flat patch twist about its normal (`stem`),
 //!   parts in an opening slide; a slide's range is its free travel, a hinge's comes from sweeping it both

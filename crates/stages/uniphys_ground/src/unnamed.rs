@@ -1,6 +1,7 @@
 //! The articulation of an asset whose part names do not say what slides or turns (`link_0`,
-//! `Mesh.002`, `handle`): the tree from size and contact, each part's joint from its shape and
-//! sweeps of candidate motions ([`crate::motion_search`]).
+//! `Mesh.002`, `handle`): the tree from size, contact and the ground (its root stands on it),
+//! each part's joint from its shape and sweeps of candidate motions
+//! ([`crate::motion_search`]).
 
 use uniphys_geometry::{DVec3, TriMesh};
 use uniphys_types::{Joint, JointKind, PartId, Provenance};
