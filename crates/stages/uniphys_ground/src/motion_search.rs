@@ -530,14 +530,22 @@ fn along_parent(axis: DVec3, parent: &PartBox) -> DVec3 {
 }
 
 /// How far the candidate moved before it failed (one step short of the failing coordinate): a
-/// crossing, a hinge whose axis left its parent, or a slide that lost contact.
+/// crossing, a hinge whose axis left its parent, a slide that lost contact, or a part taken
+/// into the ground.
 fn free_range(m: &SweepMetrics, upper: f64) -> f64 {
     let step = upper / (STEPS - 1) as f64;
     let failed = if m.kind == JointKind::Prismatic {
-        match (m.crossing_coordinate, m.lost_contact_coordinate) {
-            (Some(a), Some(b)) => Some(a.abs().min(b.abs())),
-            (a, b) => a.or(b).map(f64::abs),
-        }
+        // A slide stops where it passes through another part, leaves its parent or goes into
+        // the ground (a door standing on the floor does not slide down through it).
+        [
+            m.crossing_coordinate,
+            m.lost_contact_coordinate,
+            m.below_ground_coordinate,
+        ]
+        .into_iter()
+        .flatten()
+        .map(f64::abs)
+        .reduce(f64::min)
     } else {
         m.failure_coordinate().map(f64::abs)
     };
