@@ -58,11 +58,10 @@ pub(crate) fn unnamed_joints(
     let mut sizes: Vec<f64> = (0..n)
         .map(|i| box_volume(&points[i], &boxes[i], scene.diagonal_m))
         .collect();
-    let standing = |i: usize| scene.stands_on_ground(i);
     let pool = root_pool(
         &(0..n).filter(|&i| big(i)).collect::<Vec<_>>(),
         &sizes,
-        &standing,
+        &scene,
     );
     let most = pool.iter().map(|&i| touches[i]).max().unwrap_or(0);
     let candidates: Vec<usize> = pool.into_iter().filter(|&i| touches[i] == most).collect();
@@ -133,7 +132,8 @@ pub(crate) fn unnamed_joints(
 /// the ground (a faucet's base, not its spout; a laptop's base, not its open screen), and any
 /// that does not but whose box is `HANGING_BULK_RATIO` times every standing one's (a body its
 /// open door hangs below); all of them when none stands.
-fn root_pool(big: &[usize], box_volumes: &[f64], standing: &dyn Fn(usize) -> bool) -> Vec<usize> {
+fn root_pool(big: &[usize], box_volumes: &[f64], scene: &Scene) -> Vec<usize> {
+    let standing = |i: usize| scene.stands_on_ground(i);
     let standing_bulk = big
         .iter()
         .filter(|&&i| standing(i))

@@ -27,6 +27,8 @@ pub struct Scene {
     /// is Z up with the asset resting on the ground), metres; `None` when no part stands on it
     /// ([`stands_on_ground`]: an object turned onto a corner or an edge).
     pub ground_z_m: Option<f64>,
+    /// Whether each part stands on that ground.
+    standing: Vec<bool>,
 }
 
 impl Scene {
@@ -60,10 +62,11 @@ impl Scene {
             .map(|(i, m)| sample_points(m, samples_per_part, 0x5eed_0000 + i as u64))
             .collect();
         let floor_z_m = bounds.min.z + GROUND_TOUCH_FRACTION * diagonal_m;
-        let ground_z_m = samples
+        let standing: Vec<bool> = samples
             .iter()
-            .any(|points| stands_on_ground(points, floor_z_m))
-            .then_some(bounds.min.z);
+            .map(|points| stands_on_ground(points, floor_z_m))
+            .collect();
+        let ground_z_m = standing.contains(&true).then_some(bounds.min.z);
         Ok(Self {
             samples,
             colliders: Colliders::new(colliders, bounds.center()),
@@ -72,6 +75,7 @@ impl Scene {
             diagonal_m,
             centre_m: bounds.center(),
             ground_z_m,
+            standing,
         })
     }
 
@@ -97,12 +101,7 @@ impl Scene {
     /// Whether `part` stands on the ground the object rests on ([`stands_on_ground`]).
     #[must_use]
     pub fn stands_on_ground(&self, part: usize) -> bool {
-        self.ground_z_m.is_some_and(|z| {
-            stands_on_ground(
-                &self.samples[part],
-                z + GROUND_TOUCH_FRACTION * self.diagonal_m,
-            )
-        })
+        self.standing.get(part).copied().unwrap_or(false)
     }
 
     /// Surface samples of the given parts, concatenated.
