@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use uniphys_archive::ArchiveLimits;
 use uniphys_queue::JobSpec;
 
 /// Default cap on one upload: 512 MiB.
@@ -42,12 +43,15 @@ pub struct ApiConfig {
     pub history_len: usize,
     /// How old a batch's statistics may be before a request recomputes them.
     pub batch_stats_refresh: Duration,
+    /// What an archive (a multi-file asset) may hold; one over them is answered 422.
+    pub archive_limits: ArchiveLimits,
 }
 
 impl ApiConfig {
     /// Defaults around `job_spec`: 512 MiB uploads that may pause 30 s between bytes, a
     /// backlog of 10,000 stage runs per tenant, batches of 1,000 items, keys under
-    /// `incoming/t{tenant}/` and `sources/t{tenant}/`.
+    /// `incoming/t{tenant}/` and `sources/t{tenant}/`, archives within [`ArchiveLimits`]'
+    /// defaults.
     #[must_use]
     pub fn new(job_spec: JobSpec) -> Self {
         Self {
@@ -64,6 +68,7 @@ impl ApiConfig {
             history_interval: Duration::from_secs(5),
             history_len: 720,
             batch_stats_refresh: Duration::from_secs(5),
+            archive_limits: ArchiveLimits::default(),
         }
     }
 

@@ -9,6 +9,7 @@ use futures::StreamExt;
 use sha2::{Digest, Sha256};
 use tempfile::TempPath;
 use tokio::io::AsyncWriteExt;
+use uniphys_archive::{ArchiveError, ArchiveKind, ArchiveLimits, Listing};
 use uniphys_types::SourceFormat;
 
 use crate::error::{ApiError, ApiResult, error_chain};
@@ -198,21 +199,51 @@ pub(crate) fn sanitize_filename(raw: &str) -> ApiResult<String> {
 }
 
 /// The stored name of a source file (see [`sanitize_filename`]) whose extension names a format
-/// the pipeline reads; 415 naming the formats otherwise.
+/// the pipeline reads, or an archive holding one (`.zip`, `.tar`, `.tar.gz`, `.tgz`); 415
+/// naming both otherwise.
 pub(crate) fn source_filename(raw: &str) -> ApiResult<String> {
     let name = sanitize_filename(raw)?;
     let extension = name.rsplit_once('.').map(|(_, e)| e).unwrap_or_default();
-    if SourceFormat::from_extension(extension).is_none() {
+    if SourceFormat::from_extension(extension).is_none() && ArchiveKind::from_name(&name).is_none()
+    {
         let known: Vec<String> = SourceFormat::ALL
             .iter()
             .map(|f| format!(".{}", f.extension()))
             .collect();
         return Err(ApiError::UnsupportedMediaType(format!(
-            "{raw:?} is not a file the pipeline reads: the extension .{extension} names no supported format; send one of {}",
-            known.join(", ")
+            "{raw:?} is not a file the pipeline reads: the extension .{extension} names no supported format; send one of {}, or an archive ({}) holding one with the files it refers to",
+            known.join(", "),
+            ArchiveKind::ENDINGS.join(", ")
         )));
     }
     Ok(name)
+}
+
+/// Checks a spooled archive (every entry read, nothing written) when `filename` names one:
+/// `None` for a single file, the listing for a sound archive, 422 with the reason for one the
+/// limits or rules refuse (a path out of its folder, a link, a bomb, no asset in it).
+pub(crate) async fn check_archive(
+    path: &std::path::Path,
+    filename: &str,
+    limits: ArchiveLimits,
+) -> ApiResult<Option<Listing>> {
+    let Some(kind) = ArchiveKind::from_name(filename) else {
+        return Ok(None);
+    };
+    let path = path.to_path_buf();
+    let listed =
+        tokio::task::spawn_blocking(move || uniphys_archive::inspect(&path, kind, &limits))
+            .await
+            .map_err(|e| ApiError::Internal(format!("archive check failed: {e}")))?;
+    match listed {
+        Ok(listing) => Ok(Some(listing)),
+        Err(e @ ArchiveError::Io { .. }) => Err(ApiError::Internal(format!(
+            "checking the archive {filename}: {e}"
+        ))),
+        Err(e) => Err(ApiError::Unprocessable(format!(
+            "the archive {filename} is refused: {e}"
+        ))),
+    }
 }
 
 /// The 422 answer for a source without bytes.
@@ -238,6 +269,8 @@ pub(crate) fn content_type_for(name: &str) -> &'static str {
         "jpg" | "jpeg" => "image/jpeg",
         "txt" | "log" => "text/plain; charset=utf-8",
         "zip" => "application/zip",
+        "tar" => "application/x-tar",
+        "gz" | "tgz" => "application/gzip",
         _ => "application/octet-stream",
     }
 }

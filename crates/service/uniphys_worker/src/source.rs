@@ -1,9 +1,11 @@
 //! The submitted file, fetched from the artifact store into a private temporary directory under
-//! its original file name (the readers detect the format from the extension).
+//! its original file name (the readers detect the format from the extension). An archive (a
+//! multi-file asset) is unpacked there and its main file stands for the asset.
 
 use std::path::{Path, PathBuf};
 
 use tempfile::TempDir;
+use uniphys_archive::{ArchiveKind, ArchiveLimits};
 
 use crate::stage::{StageError, StageInput};
 
@@ -14,7 +16,10 @@ pub struct SourceFile {
 }
 
 impl SourceFile {
-    /// Fetches `input`'s source.
+    /// Fetches `input`'s source; an archive is unpacked into a folder beside it (under the
+    /// default [`ArchiveLimits`], which the API checked it against before storing it) and
+    /// [`Self::path`] is its main file (the URDF of a URDF folder). A refused archive fails
+    /// the stage for good, naming why.
     pub fn fetch(input: &StageInput) -> Result<Self, StageError> {
         let uri = &input.asset.source_uri;
         let name = uri
@@ -31,6 +36,30 @@ impl SourceFile {
             .runtime
             .block_on(input.artifacts.get_to_file(uri, &path))
             .map_err(|e| StageError::Transient(format!("reading {uri}: {e}")))?;
+        match ArchiveKind::from_name(name) {
+            Some(kind) => Self::unpacked(dir, &path, kind),
+            None => Ok(Self { dir, path }),
+        }
+    }
+
+    /// The archive at `archive` (in `dir`) unpacked into `dir/asset`, then removed.
+    fn unpacked(dir: TempDir, archive: &Path, kind: ArchiveKind) -> Result<Self, StageError> {
+        let name = archive
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let folder = dir.path().join("asset");
+        let (path, _) = uniphys_archive::unpack(archive, kind, &folder, &ArchiveLimits::default())
+            .map_err(|e| {
+                let message = format!("the archive {name}: {e}");
+                if e.is_refusal() {
+                    StageError::Permanent(message)
+                } else {
+                    StageError::Transient(message)
+                }
+            })?;
+        // The unpacked copy is what the stage reads; the archive only takes space.
+        let _ = std::fs::remove_file(archive);
         Ok(Self { dir, path })
     }
 
@@ -39,6 +68,14 @@ impl SourceFile {
     pub(crate) fn in_dir(dir: TempDir, name: &str) -> Self {
         let path = dir.path().join(name);
         Self { dir, path }
+    }
+
+    /// An archive already at `dir/name`, unpacked as [`Self::fetch`] does (tests).
+    #[cfg(test)]
+    pub(crate) fn unpacked_in_dir(dir: TempDir, name: &str) -> Result<Self, StageError> {
+        let path = dir.path().join(name);
+        let kind = ArchiveKind::from_name(name).expect("an archive name");
+        Self::unpacked(dir, &path, kind)
     }
 
     /// Where the copy is.
@@ -55,6 +92,22 @@ impl SourceFile {
         message
             .replace(&format!("{dir}{}", std::path::MAIN_SEPARATOR), "")
             .replace(&dir, "the asset's folder")
+    }
+
+    /// `bytes` of an output file as the submitter may read it: a JSON or text file (a report
+    /// whose warnings name an input file by its path) with the worker's temporary folder taken
+    /// out, as [`Self::without_local_paths`]; other files as they are. The output then does not
+    /// depend on where this attempt ran, so a retried stage writes the same bytes.
+    #[must_use]
+    pub fn without_local_paths_in(&self, name: &str, bytes: Vec<u8>) -> Vec<u8> {
+        let text_file = [".json", ".txt", ".log"]
+            .iter()
+            .any(|ending| name.to_ascii_lowercase().ends_with(ending));
+        match String::from_utf8(bytes) {
+            Ok(text) if text_file => self.without_local_paths(&text).into_bytes(),
+            Ok(text) => text.into_bytes(),
+            Err(e) => e.into_bytes(),
+        }
     }
 
     /// Its file name.
@@ -138,6 +191,61 @@ mod tests {
         assert_eq!(super::sweep_orphaned_sources(temp.path()), 1);
         assert!(!dead.exists());
         assert!(own.exists() && init.exists() && other.exists());
+    }
+
+    #[test]
+    fn an_archive_is_unpacked_and_its_main_file_stands_for_the_asset() {
+        let dir = super::private_temp_dir().expect("tempdir");
+        let folder = tempfile::tempdir().expect("tempdir");
+        std::fs::create_dir_all(folder.path().join("meshes")).expect("mkdir");
+        std::fs::write(folder.path().join("robot.urdf"), b"<robot name=\"r\"/>").expect("urdf");
+        std::fs::write(folder.path().join("meshes/a.obj"), b"v 0 0 0\n").expect("obj");
+        uniphys_archive::pack_folder(folder.path(), &dir.path().join("robot.tar.gz"))
+            .expect("pack");
+        let source = super::SourceFile::unpacked_in_dir(dir, "robot.tar.gz").expect("unpacked");
+        assert_eq!(source.file_name(), "robot.urdf");
+        let asset = source.path().parent().expect("the asset's folder");
+        assert!(asset.join("meshes/a.obj").is_file());
+        assert!(!asset.parent().expect("dir").join("robot.tar.gz").exists());
+        assert_eq!(
+            source.without_local_paths(&format!(
+                "cannot read {}",
+                asset.join("meshes/a.obj").display()
+            )),
+            "cannot read asset/meshes/a.obj"
+        );
+    }
+
+    #[test]
+    fn reports_leave_the_temporary_folder_out_and_meshes_are_untouched() {
+        let dir = super::private_temp_dir().expect("tempdir");
+        let shown = dir.path().display().to_string();
+        let source = super::SourceFile::in_dir(dir, "chair.obj");
+        let report =
+            format!("{{\"message\": \"{shown}/textures/wood.mtl names a missing image\"}}");
+        let cleaned = source.without_local_paths_in("report.json", report.into_bytes());
+        assert_eq!(
+            String::from_utf8(cleaned).expect("text"),
+            "{\"message\": \"textures/wood.mtl names a missing image\"}"
+        );
+        let mesh = format!("# {shown}\nv 0 0 0\n").into_bytes();
+        assert_eq!(
+            source.without_local_paths_in("part.obj", mesh.clone()),
+            mesh
+        );
+    }
+
+    #[test]
+    fn a_refused_archive_fails_the_stage_for_good() {
+        let dir = super::private_temp_dir().expect("tempdir");
+        std::fs::write(dir.path().join("x.zip"), b"not a zip").expect("write");
+        let error = super::SourceFile::unpacked_in_dir(dir, "x.zip")
+            .err()
+            .expect("refused");
+        assert!(
+            matches!(&error, crate::stage::StageError::Permanent(m) if m.contains("x.zip") && m.contains("cannot be read")),
+            "{error:?}"
+        );
     }
 
     #[test]

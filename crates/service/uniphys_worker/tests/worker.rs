@@ -250,6 +250,46 @@ async fn the_pipeline_converts_an_example_into_its_artifacts() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_real_urdf_folder_sent_as_an_archive_is_converted_with_its_joints() {
+    let f = fixture().await;
+    // A table of the shared set: a URDF, a drawer on a slide, texture images its MTLs name
+    // but the folder lacks.
+    let folder = uniphys_examples::shared_partnet_object("gensim2-20453");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let archive = dir.path().join("gensim2-20453.tar.gz");
+    uniphys_archive::pack_folder(&folder, &archive).expect("pack");
+    let job = f.run_pipeline(&archive, Duration::from_secs(600)).await;
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    let convert = job.stage("convert").expect("convert");
+    let manifest = OutputManifest::from_value(convert.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    let record = manifest.artifact("record.json").expect("record");
+    let record: serde_json::Value =
+        serde_json::from_slice(&f.artifacts.get(&record.key).await.expect("record")).expect("json");
+    let kinds: Vec<&str> = record["joints"]
+        .as_array()
+        .expect("joints")
+        .iter()
+        .filter_map(|j| j["kind"].as_str())
+        .collect();
+    assert_eq!(kinds, ["prismatic"], "{}", record["joints"]);
+    assert_eq!(record["source"]["file_name"], "mobility.urdf");
+    // Nothing written names the worker's temporary folder: a retry elsewhere writes the same.
+    let temp = std::env::temp_dir().display().to_string();
+    for name in ["report.json", "record.json"] {
+        let entry = manifest.artifact(name).expect(name);
+        let text = String::from_utf8(f.artifacts.get(&entry.key).await.expect(name)).expect("text");
+        assert!(!text.contains(&temp), "{name} names {temp}");
+        if name == "report.json" {
+            assert!(
+                text.contains("asset/textured_objs/") && text.contains("does not exist"),
+                "the missing textures are named by their place in the asset"
+            );
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn an_asset_in_one_piece_is_decomposed_and_converted_with_the_found_parts() {
     let f = fixture().await;
     let example = uniphys_examples::example("box_with_lid").expect("example");

@@ -17,7 +17,7 @@ use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiQuery, Tenant};
 use crate::routes::batches::batch_label;
 use crate::state::Shared;
-use crate::upload::{Spooled, empty_source, source_filename, spool_body, too_large};
+use crate::upload::{Spooled, check_archive, empty_source, source_filename, spool_body, too_large};
 
 /// Query of an upload.
 #[derive(Debug, Deserialize, IntoParams)]
@@ -67,7 +67,10 @@ pub struct SubmitResponse {
 
 /// Submit an asset by uploading its file.
 ///
-/// The body is the file's bytes, streamed to disk while hashed. Submitting the same content again
+/// The body is the file's bytes, streamed to disk while hashed. An asset of several files (a
+/// URDF folder with its meshes, an OBJ with its MTL and textures, a glTF with external buffers)
+/// is sent as one archive (`.zip`, `.tar`, `.tar.gz`, `.tgz`); it is read whole and checked
+/// before it is stored, and its main file is found in it. Submitting the same content again
 /// answers 200 with the same ids and the job's state; a dead or cancelled job is not run again
 /// by a re-submit, the answer names its retry path instead.
 #[utoipa::path(
@@ -82,8 +85,8 @@ pub struct SubmitResponse {
         (status = 400, description = "Malformed query", body = ErrorBody),
         (status = 401, description = "Missing or unknown API key", body = ErrorBody),
         (status = 413, description = "Upload over the size limit; nothing stored", body = ErrorBody),
-        (status = 415, description = "A file type the pipeline does not read (by its extension)", body = ErrorBody),
-        (status = 422, description = "Filename without an extension, or an empty body", body = ErrorBody),
+        (status = 415, description = "A file type the pipeline does not read (by its extension), nor an archive", body = ErrorBody),
+        (status = 422, description = "Filename without an extension, an empty body, or an archive refused (a path out of its folder, a link, too many entries or bytes, no single asset in it)", body = ErrorBody),
         (status = 429, description = "Tenant backlog full; see Retry-After", body = ErrorBody),
         (status = 503, description = "Database or object store unavailable; see Retry-After", body = ErrorBody),
     ),
@@ -155,6 +158,7 @@ pub(crate) async fn store_and_submit(
     filename: &str,
     placement: Placement<'_>,
 ) -> ApiResult<(bool, SubmitResponse)> {
+    check_archive(&spooled.path, filename, state.config.archive_limits).await?;
     let key = format!("sources/t{}/{}/{filename}", tenant.0, spooled.sha256_hex);
     state.artifacts.put_file(&key, &spooled.path).await?;
     drop(spooled.path);

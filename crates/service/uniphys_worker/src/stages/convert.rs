@@ -76,7 +76,8 @@ impl Stage for ConvertStage {
         control.check()?;
         let files = output.artifacts.len();
         for artifact in output.artifacts {
-            out.put(&artifact.path, artifact.bytes)?;
+            let bytes = source.without_local_paths_in(&artifact.path, artifact.bytes);
+            out.put(&artifact.path, bytes)?;
         }
         let timings: serde_json::Map<String, Value> = output
             .timings

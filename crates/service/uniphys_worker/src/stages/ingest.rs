@@ -43,7 +43,13 @@ impl Stage for IngestStage {
             "triangles": loaded.asset.triangle_count(),
             "declared_joints": loaded.asset.joints.len(),
             "dropped_degenerate_triangles": loaded.dropped_degenerate_triangles,
-            "warnings": loaded.warnings,
+            // Named by their place in the asset's folder, not the worker's: a retry on another
+            // worker writes the same summary.
+            "warnings": loaded
+                .warnings
+                .iter()
+                .map(|w| source.without_local_paths(w))
+                .collect::<Vec<_>>(),
         });
         out.put_json("summary.json", &summary)?;
         Ok(summary)

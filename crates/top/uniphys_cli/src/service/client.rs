@@ -28,7 +28,9 @@ pub struct SubmitArgs {
     /// The API and the key.
     #[command(flatten)]
     pub client: ClientArgs,
-    /// Asset files to upload, or one batch manifest (`.json`: `{"items": [{"url": ...}]}`).
+    /// Asset files to upload, asset folders (a URDF folder with its meshes, an OBJ with its MTL
+    /// and textures: each packed into one .tar.gz, the same bytes every time, so a re-submission
+    /// is the same asset), or one batch manifest (`.json`: `{"items": [{"url": ...}]}`).
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
     /// Priority of the jobs (higher runs first).
@@ -183,7 +185,11 @@ pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
             }
         }
     } else {
-        for file in &args.inputs {
+        for input in &args.inputs {
+            let packed = packed_folder(input)?;
+            let file = packed
+                .as_ref()
+                .map_or(input.as_path(), |(_, p)| p.as_path());
             let answer = client.upload(file, args.priority, args.batch.as_deref())?;
             let asset = answer["asset_id"].as_str().unwrap_or_default().to_owned();
             let created = if answer["created"] == Value::Bool(true) {
@@ -193,16 +199,42 @@ pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
             };
             println!(
                 "{}: {asset} job {} ({created})",
-                file.display(),
+                input.display(),
                 answer["job_id"].as_str().unwrap_or_default()
             );
-            submitted.push((file.display().to_string(), asset));
+            submitted.push((input.display().to_string(), asset));
         }
     }
     if !args.watch {
         return Ok(ExitCode::SUCCESS);
     }
     watch(&client, &submitted)
+}
+
+/// A folder packed into `<folder name>.tar.gz` in a temporary folder (removed on drop), or `None`
+/// for a file.
+fn packed_folder(input: &Path) -> anyhow::Result<Option<(tempfile::TempDir, PathBuf)>> {
+    if !input.is_dir() {
+        return Ok(None);
+    }
+    let name = input
+        .canonicalize()
+        .ok()
+        .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .filter(|n| !n.is_empty())
+        .unwrap_or_else(|| "asset".to_owned());
+    let dir = tempfile::tempdir().context("a temporary folder to pack into")?;
+    let archive = dir.path().join(format!("{name}.tar.gz"));
+    let packed = uniphys_archive::pack_folder(input, &archive)
+        .with_context(|| format!("cannot pack the folder {}", input.display()))?;
+    eprintln!(
+        "{}: packed {} files ({} bytes), read from {}",
+        input.display(),
+        packed.files,
+        packed.bytes,
+        packed.main_file
+    );
+    Ok(Some((dir, archive)))
 }
 
 /// Whether a job state is final.
