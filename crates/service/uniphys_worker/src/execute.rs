@@ -9,8 +9,8 @@ use tokio_util::sync::CancellationToken;
 use tracing::{Instrument, info, warn};
 use uniphys_hints::Progress;
 use uniphys_queue::{
-    ClaimedRun, FailOutcome, OutputManifest, QueueError, QueueErrorKind, QueueResult, StageCost,
-    StageFailure,
+    ClaimedRun, FailOutcome, MAX_MANIFEST_BYTES, OutputManifest, QueueError, QueueErrorKind,
+    QueueResult, StageCost, StageFailure,
 };
 use uniphys_telemetry::{StageOutcome, stage_span};
 
@@ -167,22 +167,30 @@ async fn finish(
     let failure = match result {
         Ok(Ok(manifest)) => {
             let value = manifest.to_value();
-            let cost = StageCost::default();
-            let done = retry_db(shared, "complete the run", || {
-                shared.completer.complete(&run.lease, &value, &cost)
-            })
-            .await;
-            return match done {
-                Ok(outcome) => {
-                    for next in &outcome.unblocked {
-                        if shared.hints.ring(&next.stage_name).await.is_err() {
-                            shared.metrics.record_hints_error("ring");
+            if let Some(bytes) = oversize(&value) {
+                // The store refuses it every time: failing now names why, where a refused
+                // completion would leave the run to lease recovery again and again.
+                StageFailure::permanent(format!(
+                    "the stage's output manifest is {bytes} bytes, over the queue's {MAX_MANIFEST_BYTES}: its summary must name artifacts, not hold data (a stage bug)"
+                ))
+            } else {
+                let cost = StageCost::default();
+                let done = retry_db(shared, "complete the run", || {
+                    shared.completer.complete(&run.lease, &value, &cost)
+                })
+                .await;
+                return match done {
+                    Ok(outcome) => {
+                        for next in &outcome.unblocked {
+                            if shared.hints.ring(&next.stage_name).await.is_err() {
+                                shared.metrics.record_hints_error("ring");
+                            }
                         }
+                        Some(StageOutcome::Succeeded)
                     }
-                    Some(StageOutcome::Succeeded)
-                }
-                Err(e) => Some(dropped(shared, &e, &created).await),
-            };
+                    Err(e) => Some(dropped(shared, &e, &created).await),
+                };
+            }
         }
         Ok(Err(StageError::Stopped)) => match interrupt {
             Some(Interrupt::Shutdown) | None => {
@@ -214,6 +222,12 @@ async fn finish(
         Ok(FailOutcome::DeadLettered) => Some(StageOutcome::Dead),
         Err(e) => Some(dropped(shared, &e, &created).await),
     }
+}
+
+/// The size of a manifest the queue would refuse (over [`MAX_MANIFEST_BYTES`] of JSON), if so.
+fn oversize(value: &serde_json::Value) -> Option<usize> {
+    let bytes = serde_json::to_vec(value).map_or(usize::MAX, |v| v.len());
+    (bytes > MAX_MANIFEST_BYTES).then_some(bytes)
 }
 
 /// The outcome of a run whose end the store refused with `e`; a cancelled run's objects

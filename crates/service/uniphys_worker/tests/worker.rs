@@ -14,7 +14,10 @@ use uniphys_queue::{
 };
 use uniphys_storage::ArtifactStore;
 use uniphys_telemetry::Metrics;
-use uniphys_worker::{StageRegistry, StageSlots, Worker, WorkerConfig, pipeline_job_spec};
+use uniphys_worker::{
+    OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry, StageSlots, Worker,
+    WorkerConfig, pipeline_job_spec,
+};
 
 struct Fixture {
     _dir: tempfile::TempDir,
@@ -274,6 +277,16 @@ async fn a_real_urdf_folder_sent_as_an_archive_is_converted_with_its_joints() {
         .collect();
     assert_eq!(kinds, ["prismatic"], "{}", record["joints"]);
     assert_eq!(record["source"]["file_name"], "mobility.urdf");
+    // The ingest run's manifest stays small: the warnings' count and the first few.
+    let ingest = job.stage("ingest").expect("ingest");
+    let summary = &OutputManifest::from_value(ingest.output_manifest.as_ref().expect("manifest"))
+        .expect("shape")
+        .summary;
+    assert!(
+        summary["warning_count"].as_u64().is_some_and(|n| n > 5),
+        "{summary}"
+    );
+    assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(5));
     // Nothing written names the worker's temporary folder: a retry elsewhere writes the same.
     let temp = std::env::temp_dir().display().to_string();
     for name in ["report.json", "record.json"] {
@@ -287,6 +300,60 @@ async fn a_real_urdf_folder_sent_as_an_archive_is_converted_with_its_joints() {
             );
         }
     }
+}
+
+/// A stage whose summary is far over the queue's manifest limit (a stage bug).
+struct Chatty;
+
+impl Stage for Chatty {
+    fn name(&self) -> &str {
+        "chatty"
+    }
+
+    fn version(&self) -> u32 {
+        1
+    }
+
+    fn run(
+        &self,
+        _input: &StageInput,
+        _out: &mut OutputWriter,
+        _control: &StageControl,
+    ) -> Result<serde_json::Value, StageError> {
+        Ok(serde_json::json!({ "lines": vec!["a warning of some length"; 10_000] }))
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_manifest_over_the_queues_limit_fails_the_run_at_once_saying_why() {
+    let f = fixture().await;
+    let asset = NewAsset {
+        content_digest: "sha256:chatty".into(),
+        source_uri: "sources/chatty".into(),
+        size_bytes: 1,
+    };
+    let sub = f
+        .store
+        .submit(f.tenant, &asset, &JobSpec::chain(&["chatty"]))
+        .await
+        .expect("submit");
+    let (shutdown, handle) = f.start(
+        StageRegistry::stand_ins(&[], Duration::ZERO).with(Chatty),
+        config(&[("chatty", 1)]),
+    );
+    f.wait_finished(&[sub.job_id], Duration::from_secs(60))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    let run = job.stage("chatty").expect("stage");
+    assert_eq!(run.state, StageState::Dead);
+    assert_eq!(run.attempt, 1, "not left to lease recovery, not retried");
+    assert!(
+        run.errors[0].message.contains("output manifest"),
+        "{}",
+        run.errors[0].message
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]

@@ -9,6 +9,9 @@ use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 
+/// Warnings the run's manifest carries (summary.json has all of them).
+const MANIFEST_WARNINGS: usize = 5;
+
 /// The ingest stage.
 #[derive(Clone, Debug, Default)]
 pub struct IngestStage {
@@ -37,21 +40,26 @@ impl Stage for IngestStage {
         control.progress(0.5, "reading the mesh");
         let loaded =
             load_asset(source.path(), &self.options).map_err(|e| unreadable(&source, &e))?;
-        let summary = json!({
+        // Named by their place in the asset's folder, not the worker's: a retry on another
+        // worker writes the same summary.
+        let warnings: Vec<String> = loaded
+            .warnings
+            .iter()
+            .map(|w| source.without_local_paths(w))
+            .collect();
+        let mut summary = json!({
             "file": source.file_name(),
             "parts": loaded.asset.parts.len(),
             "triangles": loaded.asset.triangle_count(),
             "declared_joints": loaded.asset.joints.len(),
             "dropped_degenerate_triangles": loaded.dropped_degenerate_triangles,
-            // Named by their place in the asset's folder, not the worker's: a retry on another
-            // worker writes the same summary.
-            "warnings": loaded
-                .warnings
-                .iter()
-                .map(|w| source.without_local_paths(w))
-                .collect::<Vec<_>>(),
+            "warnings": warnings,
         });
         out.put_json("summary.json", &summary)?;
+        // The run's manifest stays small (a URDF folder can have hundreds of warnings, one per
+        // missing texture): their count and the first few; summary.json has them all.
+        summary["warning_count"] = json!(warnings.len());
+        summary["warnings"] = json!(&warnings[..warnings.len().min(MANIFEST_WARNINGS)]);
         Ok(summary)
     }
 }
