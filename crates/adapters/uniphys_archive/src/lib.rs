@@ -10,7 +10,8 @@
 //!   refused;
 //! - [`main_file`]: the file an asset is read from (the URDF, the glTF, the OBJ);
 //! - [`unpack`]: [`inspect`] (check without writing) and [`unpack()`] (write into a folder);
-//! - [`pack`]: a folder packed into a tar.gz with the same bytes every time ([`pack_folder`]).
+//! - [`pack`]: a folder packed into a tar.gz with the same bytes every time ([`pack_folder`],
+//!   over [`DeterministicTar`]).
 
 pub mod entry_path;
 mod error;
@@ -25,5 +26,5 @@ pub use error::{ArchiveError, ArchiveResult};
 pub use kind::ArchiveKind;
 pub use limits::ArchiveLimits;
 pub use main_file::main_file;
-pub use pack::{PackSummary, pack_folder};
+pub use pack::{DeterministicTar, PackSummary, pack_folder};
 pub use unpack::{Listing, inspect, unpack};

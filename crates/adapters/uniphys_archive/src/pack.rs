@@ -3,7 +3,7 @@
 //! is then the same content, and so the same asset.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Read, Write};
 use std::path::Path;
 
 use crate::{ArchiveError, ArchiveResult, main_file};
@@ -33,7 +33,7 @@ pub fn pack_folder(folder: &Path, out: &Path) -> ArchiveResult<PackSummary> {
     let writer =
         File::create(out).map_err(ArchiveError::io(format!("creating {}", out.display())))?;
     let gz = flate2::write::GzEncoder::new(BufWriter::new(writer), flate2::Compression::new(6));
-    let mut builder = tar::Builder::new(gz);
+    let mut tar = DeterministicTar::new(gz);
     let mut bytes = 0u64;
     for components in &files {
         let source = components
@@ -42,22 +42,12 @@ pub fn pack_folder(folder: &Path, out: &Path) -> ArchiveResult<PackSummary> {
         let context = format!("packing {}", source.display());
         let file = File::open(&source).map_err(ArchiveError::io(&context))?;
         let size = file.metadata().map_err(ArchiveError::io(&context))?.len();
-        let mut header = tar::Header::new_gnu();
-        header.set_entry_type(tar::EntryType::Regular);
-        header.set_size(size);
-        header.set_mode(0o644);
-        header.set_mtime(0);
-        header.set_uid(0);
-        header.set_gid(0);
-        builder
-            .append_data(&mut header, components.join("/"), file)
+        tar.append(&components.join("/"), size, file)
             .map_err(ArchiveError::io(&context))?;
         bytes += size;
     }
-    let gz = builder
-        .into_inner()
-        .map_err(ArchiveError::io("finishing the tar"))?;
-    gz.finish()
+    tar.finish()
+        .and_then(|gz| gz.finish())
         .and_then(|mut w| w.flush())
         .map_err(ArchiveError::io(format!("writing {}", out.display())))?;
     Ok(PackSummary {
@@ -65,6 +55,44 @@ pub fn pack_folder(folder: &Path, out: &Path) -> ArchiveResult<PackSummary> {
         bytes,
         main_file: main,
     })
+}
+
+/// A tar written with fixed times, owners and modes, so the same files in the same order give
+/// the same bytes (long paths as GNU long names).
+pub struct DeterministicTar<W: Write> {
+    builder: tar::Builder<W>,
+}
+
+impl<W: Write> DeterministicTar<W> {
+    /// A tar written to `writer`.
+    pub fn new(writer: W) -> Self {
+        Self {
+            builder: tar::Builder::new(writer),
+        }
+    }
+
+    /// Appends a file of `size` bytes at `path` (`/`-separated, relative) read from `data`.
+    ///
+    /// # Errors
+    /// The writer's, or a path the tar format refuses.
+    pub fn append(&mut self, path: &str, size: u64, data: impl Read) -> std::io::Result<()> {
+        let mut header = tar::Header::new_gnu();
+        header.set_entry_type(tar::EntryType::Regular);
+        header.set_size(size);
+        header.set_mode(0o644);
+        header.set_mtime(0);
+        header.set_uid(0);
+        header.set_gid(0);
+        self.builder.append_data(&mut header, path, data)
+    }
+
+    /// Ends the tar and returns the writer.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn finish(self) -> std::io::Result<W> {
+        self.builder.into_inner()
+    }
 }
 
 /// The files under `folder/prefix`, sorted by name at every level, as path components.

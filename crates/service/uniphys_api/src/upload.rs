@@ -102,18 +102,7 @@ pub(crate) async fn spool<S, E>(
 where
     S: futures::Stream<Item = Result<Bytes, E>> + Unpin,
 {
-    let (file, path) = tokio::task::spawn_blocking(move || {
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(SPOOL_PREFIX);
-        match dir {
-            Some(dir) => builder.tempfile_in(dir),
-            None => builder.tempfile(),
-        }
-    })
-    .await
-    .map_err(|e| ApiError::Internal(format!("spool task failed: {e}")))?
-    .map_err(|e| ApiError::Internal(format!("cannot create a spool file: {}", error_chain(&e))))?
-    .into_parts();
+    let (file, path) = spool_file(dir).await?;
     let mut file = tokio::fs::File::from_std(file);
     let mut hasher = Sha256::new();
     let mut size_bytes = 0u64;
@@ -132,6 +121,30 @@ where
         sha256_hex: hex::encode(hasher.finalize()),
         size_bytes,
     })
+}
+
+/// A new, empty spool file in `dir` (or the system temp dir), removed when its path is dropped.
+pub(crate) async fn spool_file(dir: Option<PathBuf>) -> ApiResult<(std::fs::File, TempPath)> {
+    Ok(tokio::task::spawn_blocking(move || {
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(SPOOL_PREFIX);
+        match dir {
+            Some(dir) => builder.tempfile_in(dir),
+            None => builder.tempfile(),
+        }
+    })
+    .await
+    .map_err(|e| ApiError::Internal(format!("spool task failed: {e}")))?
+    .map_err(|e| ApiError::Internal(format!("cannot create a spool file: {}", error_chain(&e))))?
+    .into_parts())
+}
+
+/// The lowercase hex SHA-256 and the size of the file at `path` (blocking).
+pub(crate) fn digest_file(path: &std::path::Path) -> std::io::Result<(String, u64)> {
+    let mut file = std::fs::File::open(path)?;
+    let mut hasher = Sha256::new();
+    let size = std::io::copy(&mut file, &mut hasher)?;
+    Ok((hex::encode(hasher.finalize()), size))
 }
 
 /// Removes this service's spool files in `dir` (or the system temp dir) untouched for

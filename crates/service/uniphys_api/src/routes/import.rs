@@ -1,6 +1,8 @@
 //! `POST /v1/assets/by-url` and `POST /v1/batches`: submit assets already in the service's object
 //! store. The object is copied (streamed, hashed) to the tenant's content-addressed source key, so
-//! the recorded digest stays true even if the original is later overwritten.
+//! the recorded digest stays true even if the original is later overwritten. A key ending in `/`
+//! names a folder of objects (a URDF with its meshes): they are packed, in key order, into one
+//! tar with fixed times and owners, so the same objects make the same asset.
 
 use axum::Json;
 use axum::extract::State;
@@ -16,7 +18,10 @@ use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 use crate::extract::{ApiJson, Tenant};
 use crate::state::Shared;
-use crate::upload::{empty_source, source_filename, spool, too_large};
+use crate::upload::{
+    Spooled, digest_file, empty_source, source_filename, spool, spool_file, too_large,
+};
+use uniphys_archive::{ArchiveKind, DeterministicTar};
 
 /// Batch items submitted at the same time.
 const BATCH_CONCURRENCY: usize = 8;
@@ -25,9 +30,12 @@ const BATCH_CONCURRENCY: usize = 8;
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ByUrlRequest {
-    /// Object-store key, e.g. `incoming/t1/cabinet.glb` (under one of the tenant's prefixes).
+    /// Object-store key, e.g. `incoming/t1/cabinet.glb` (under one of the tenant's prefixes), or
+    /// a prefix ending in `/` whose objects are one asset's files (`incoming/t1/45213/`: a URDF
+    /// folder, an OBJ with its MTL and textures).
     pub url: String,
-    /// Name to store it under, with its extension; defaults to the key's last component.
+    /// Name to store it under, with its extension; defaults to the key's last component (for a
+    /// prefix, its last component with `.tar`).
     pub filename: Option<String>,
     /// Higher runs first (default 0).
     pub priority: Option<i32>,
@@ -70,12 +78,18 @@ pub struct BatchResponse {
 /// A validated import: the key to read, the name to store it under.
 struct Import {
     key: String,
+    /// For a prefix: the keys under it (sorted), packed into one tar.
+    folder: Option<Vec<String>>,
     filename: String,
     priority: Option<i32>,
     batch: Option<String>,
 }
 
 /// Submit an asset already in the service's object store.
+///
+/// `url` is one object's key, or a prefix ending in `/` whose objects are one asset's files
+/// (packed into a tar in key order, so the same objects are the same asset). An archive object
+/// is checked as an upload is.
 #[utoipa::path(
     post,
     path = "/v1/assets/by-url",
@@ -211,31 +225,76 @@ async fn validate(
     request: &ByUrlRequest,
     manifest_batch: Option<&str>,
 ) -> ApiResult<Import> {
-    let key = object_key(state, tenant, &request.url)?;
+    let is_prefix = request.url.ends_with('/');
+    let key = object_key(state, tenant, request.url.trim_end_matches('/'))?;
     let batch = request.batch.as_deref().or(manifest_batch);
     if let Some(batch) = batch {
         batch_label(batch)?;
     }
-    let raw_name = request
-        .filename
-        .as_deref()
-        .unwrap_or_else(|| key.rsplit('/').next().unwrap_or_default());
-    let filename = source_filename(raw_name)?;
-    let Some(size_bytes) = state.artifacts.head(&key).await? else {
-        return Err(ApiError::Unprocessable(format!("no object at {key}")));
+    let last = key.rsplit('/').next().unwrap_or_default();
+    let raw_name = match (&request.filename, is_prefix) {
+        (Some(name), _) => name.clone(),
+        (None, true) => format!("{last}.tar"),
+        (None, false) => last.to_owned(),
     };
-    if size_bytes == 0 {
-        return Err(empty_source(&format!("the object at {key}")));
-    }
-    if size_bytes > state.config.max_upload_bytes {
-        return Err(too_large(state.config.max_upload_bytes));
-    }
+    let filename = source_filename(&raw_name)?;
+    let folder = if is_prefix {
+        if ArchiveKind::from_name(&filename) != Some(ArchiveKind::Tar) {
+            return Err(ApiError::Unprocessable(format!(
+                "a prefix's objects are packed into a tar: filename must end in .tar, got {raw_name:?}"
+            )));
+        }
+        Some(folder_keys(state, &key).await?)
+    } else {
+        let Some(size_bytes) = state.artifacts.head(&key).await? else {
+            return Err(ApiError::Unprocessable(format!("no object at {key}")));
+        };
+        if size_bytes == 0 {
+            return Err(empty_source(&format!("the object at {key}")));
+        }
+        if size_bytes > state.config.max_upload_bytes {
+            return Err(too_large(state.config.max_upload_bytes));
+        }
+        None
+    };
     Ok(Import {
         key,
+        folder,
         filename,
         priority: request.priority,
         batch: batch.map(str::to_owned),
     })
+}
+
+/// The keys under `prefix`, checked as an archive's entries would be: some, not too many, one
+/// main file among them.
+async fn folder_keys(state: &ApiState, prefix: &str) -> ApiResult<Vec<String>> {
+    let keys = state.artifacts.list(prefix).await?;
+    if keys.is_empty() {
+        return Err(ApiError::Unprocessable(format!(
+            "no objects under {prefix}/"
+        )));
+    }
+    let max = state.config.archive_limits.max_entries;
+    if keys.len() > max {
+        return Err(ApiError::Unprocessable(format!(
+            "{} objects under {prefix}/, more than the {max} one asset may have",
+            keys.len()
+        )));
+    }
+    let files: Vec<Vec<String>> = keys
+        .iter()
+        .map(|k| relative(prefix, k).split('/').map(str::to_owned).collect())
+        .collect();
+    uniphys_archive::main_file(&files)
+        .map_err(|e| ApiError::Unprocessable(format!("the objects under {prefix}/: {e}")))?;
+    Ok(keys)
+}
+
+/// `key` relative to `prefix` (a key under it).
+fn relative<'k>(prefix: &str, key: &'k str) -> &'k str {
+    key.strip_prefix(prefix)
+        .map_or(key, |rest| rest.trim_start_matches('/'))
 }
 
 /// The object key named by `url`, if it is a well-formed key under one of the tenant's prefixes.
@@ -271,23 +330,65 @@ fn object_key(state: &ApiState, tenant: TenantId, url: &str) -> ApiResult<String
     Ok(key.to_owned())
 }
 
-/// Streams the object to a spool file (hashing it) and stores and submits it.
+/// Streams the object to a spool file (hashing it), or packs a prefix's objects into one, and
+/// stores and submits it.
 async fn run_import(
     state: &ApiState,
     tenant: TenantId,
     import: Import,
 ) -> ApiResult<(bool, SubmitResponse)> {
-    let (_, stream) = state.artifacts.get_stream(&import.key).await?;
-    let spooled = spool(
-        stream.map_err(ApiError::from),
-        state.config.upload_tmp_dir.clone(),
-        state.config.max_upload_bytes,
-        |e| e,
-    )
-    .await?;
+    let spooled = match &import.folder {
+        Some(keys) => pack_objects(state, &import.key, keys).await?,
+        None => {
+            let (_, stream) = state.artifacts.get_stream(&import.key).await?;
+            spool(
+                stream.map_err(ApiError::from),
+                state.config.upload_tmp_dir.clone(),
+                state.config.max_upload_bytes,
+                |e| e,
+            )
+            .await?
+        }
+    };
     let placement = Placement {
         priority: import.priority,
         batch: import.batch.as_deref(),
     };
     store_and_submit(state, tenant, spooled, &import.filename, placement).await
+}
+
+/// The objects `keys` under `prefix` packed, in order, into a spooled tar (paths relative to
+/// the prefix), within the upload cap.
+async fn pack_objects(state: &ApiState, prefix: &str, keys: &[String]) -> ApiResult<Spooled> {
+    let (file, path) = spool_file(state.config.upload_tmp_dir.clone()).await?;
+    let mut tar = DeterministicTar::new(std::io::BufWriter::new(file));
+    let max = state.config.max_upload_bytes;
+    let mut total = 0u64;
+    for key in keys {
+        let bytes = state.artifacts.get(key).await?;
+        total += bytes.len() as u64;
+        if total > max {
+            return Err(too_large(max));
+        }
+        let name = relative(prefix, key).to_owned();
+        tar = tokio::task::spawn_blocking(move || {
+            tar.append(&name, bytes.len() as u64, bytes.as_slice())
+                .map(|()| tar)
+        })
+        .await
+        .map_err(|e| ApiError::Internal(format!("packing task failed: {e}")))?
+        .map_err(|e| ApiError::Internal(format!("packing {key} into the spool file: {e}")))?;
+    }
+    tokio::task::spawn_blocking(move || {
+        use std::io::Write;
+        tar.finish()?.flush()?;
+        digest_file(&path).map(|(sha256_hex, size_bytes)| Spooled {
+            path,
+            sha256_hex,
+            size_bytes,
+        })
+    })
+    .await
+    .map_err(|e| ApiError::Internal(format!("packing task failed: {e}")))?
+    .map_err(|e| ApiError::Internal(format!("finishing the packed folder: {e}")))
 }

@@ -127,3 +127,90 @@ pub async fn a_hostile_archive_is_422_with_its_reason_and_stores_nothing(backend
     assert_eq!(app.spool_files(), 0, "refused uploads leave no spool file");
     app.finish().await;
 }
+
+pub async fn a_folder_in_the_store_is_submitted_by_its_prefix(backend: Backend) {
+    let Some(app) = TestApp::open(backend, |c| c).await else {
+        return;
+    };
+    let t = app.tenant.0;
+    let files: [(&str, &[u8]); 3] = [
+        (
+            "mobility.urdf",
+            b"<robot name=\"r\"><link name=\"base\"/></robot>",
+        ),
+        (
+            "textured_objs/a.obj",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ),
+        ("textured_objs/a.mtl", b"newmtl m\n"),
+    ];
+    for (name, bytes) in files {
+        app.artifacts
+            .put(&format!("incoming/t{t}/45213/{name}"), bytes.to_vec())
+            .await
+            .expect("put");
+    }
+    let by_prefix = format!(r#"{{"url": "incoming/t{t}/45213/"}}"#);
+    let first = app.post_json("/v1/assets/by-url", &by_prefix).await;
+    assert_eq!(first.status, StatusCode::CREATED, "{}", first.error().1);
+    let key = first.json()["source_key"].as_str().expect("key").to_owned();
+    assert!(key.ends_with("/45213.tar"), "{key}");
+    // The stored tar holds the folder's files under their paths, and is read from the URDF.
+    let stored = app.artifacts.get(&key).await.expect("stored");
+    let mut archive = tar::Archive::new(stored.as_slice());
+    let mut names: Vec<String> = archive
+        .entries()
+        .expect("entries")
+        .map(|e| {
+            e.expect("entry")
+                .path()
+                .expect("path")
+                .display()
+                .to_string()
+        })
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "mobility.urdf",
+            "textured_objs/a.mtl",
+            "textured_objs/a.obj"
+        ]
+    );
+    // The same objects make the same asset.
+    let again = app.post_json("/v1/assets/by-url", &by_prefix).await;
+    assert_eq!(again.status, StatusCode::OK);
+    assert_eq!(again.json()["asset_id"], first.json()["asset_id"]);
+
+    app.artifacts
+        .put(
+            &format!("incoming/t{t}/notes/readme.txt"),
+            b"no mesh".to_vec(),
+        )
+        .await
+        .expect("put");
+    for (body, expect) in [
+        (
+            format!(r#"{{"url": "incoming/t{t}/nothing/"}}"#),
+            "no objects under",
+        ),
+        (
+            format!(r#"{{"url": "incoming/t{t}/notes/"}}"#),
+            "no file the pipeline reads",
+        ),
+        (
+            format!(r#"{{"url": "incoming/t{t}/45213/", "filename": "x.zip"}}"#),
+            "must end in .tar",
+        ),
+    ] {
+        let answer = app.post_json("/v1/assets/by-url", &body).await;
+        assert_eq!(answer.status, StatusCode::UNPROCESSABLE_ENTITY, "{body}");
+        assert!(
+            answer.error().1.contains(expect),
+            "{body}: {}",
+            answer.error().1
+        );
+    }
+    app.finish().await;
+}

@@ -41,6 +41,7 @@ cases!(
     submit::a_full_backlog_answers_429_with_retry_after,
     archives::an_archived_asset_folder_is_accepted_stored_whole_and_idempotent,
     archives::a_hostile_archive_is_422_with_its_reason_and_stores_nothing,
+    archives::a_folder_in_the_store_is_submitted_by_its_prefix,
     bad_input::an_oversize_upload_is_413_and_stores_nothing,
     bad_input::a_malformed_manifest_is_400,
     bad_input::unknown_fields_are_400_naming_the_field,
