@@ -59,6 +59,12 @@ pub enum Command {
     Submit(crate::service::client::SubmitArgs),
     /// Show the newest jobs, or one asset's stages.
     Status(crate::service::client::StatusArgs),
+    /// Get a batch out of the service as a dataset (UniPhys-40K layout, model inputs, index).
+    Dataset {
+        /// What to do.
+        #[command(subcommand)]
+        action: crate::service::dataset::DatasetAction,
+    },
     /// Write the example assets (cabinet, laptop, box with lid, mug) as GLB files.
     Examples {
         /// Output directory.

@@ -75,6 +75,9 @@ pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
         },
         Command::Submit(args) => service::client::submit(&args),
         Command::Status(args) => service::client::status(&args),
+        Command::Dataset { action } => match action {
+            service::dataset::DatasetAction::Export(args) => service::dataset::export(&args),
+        },
         Command::Examples { out } => {
             let written = uniphys_examples::write_catalogue(&out).map_err(|e| {
                 anyhow::anyhow!(

@@ -15,6 +15,24 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
+/// Writes the UniPhysGen model inputs of the asset at `asset` into `out` (`npzs/model.npz`,
+/// `npzs/<part index>.npz`, `coordinate_frame.json`) with the default sampling; returns how
+/// many npz files were written.
+pub(crate) fn write_model_inputs(asset: &Path, out: &Path) -> anyhow::Result<usize> {
+    let mut loaded = load_asset(asset, &IngestOptions::default())?;
+    loaded.asset.rest_on_ground();
+    let prepared = prepare_points(&loaded.asset, &PointOptions::default())?;
+    let inputs = model_inputs(&prepared, uniphys_uniphysgen::DEFAULT_NUM_BINS)?;
+    let written = write_npzs(&prepared, &out.join("npzs"))?;
+    let frame_path = out.join("coordinate_frame.json");
+    std::fs::write(
+        &frame_path,
+        serde_json::to_string_pretty(&inputs.frame.to_json())?,
+    )
+    .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", frame_path.display()))?;
+    Ok(written.len())
+}
+
 pub(crate) fn points(args: &PointsArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
     let mut loaded = load_asset(&args.asset, &IngestOptions::default())?;

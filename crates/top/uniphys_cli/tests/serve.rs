@@ -1,7 +1,8 @@
 //! The embedded service end to end, as a user runs it: `uniphys serve` with no configuration
 //! (SQLite and a local directory under its data dir), `uniphys submit --watch` of two example
-//! files through the real pipeline, `uniphys status`, a readable error for an unknown asset, and
-//! a clean exit on SIGTERM.
+//! files and a real PartNet-Mobility folder (packed by `submit`) through the real pipeline into a
+//! batch, `uniphys status`, a readable error for an unknown asset, `uniphys dataset export` of the
+//! batch (and again, resumed), and a clean exit on SIGTERM.
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
@@ -54,10 +55,13 @@ fn serve_submit_watch_status_and_shutdown() {
     );
 
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples");
+    // A table with a drawer, as PartNet-Mobility ships it: a URDF and its OBJ and MTL files.
+    let table = uniphys_examples::shared_partnet_object("gensim2-20453");
     let submit = uniphys(dir.path(), &api_url)
-        .args(["submit", "--watch"])
+        .args(["submit", "--watch", "--batch", "shelf"])
         .arg(examples.join("mug.glb"))
         .arg(examples.join("box_with_lid.glb"))
+        .arg(&table)
         .output()
         .expect("submit runs");
     let stdout = String::from_utf8_lossy(&submit.stdout);
@@ -67,8 +71,12 @@ fn serve_submit_watch_status_and_shutdown() {
         String::from_utf8_lossy(&submit.stderr)
     );
     assert!(
-        stdout.contains("asset_1") && stdout.contains("asset_2"),
+        stdout.contains("asset_1") && stdout.contains("asset_2") && stdout.contains("asset_3"),
         "{stdout}"
+    );
+    assert!(
+        String::from_utf8_lossy(&submit.stderr).contains("read from mobility.urdf"),
+        "the folder was packed"
     );
 
     let again = uniphys(dir.path(), &api_url)
@@ -101,6 +109,57 @@ fn serve_submit_watch_status_and_shutdown() {
     assert!(
         message.contains("404") && message.contains("asset"),
         "{message}"
+    );
+
+    let out = dir.path().join("datasets");
+    let export = || {
+        uniphys(dir.path(), &api_url)
+            .args(["dataset", "export", "--batch", "shelf", "--out"])
+            .arg(&out)
+            .output()
+            .expect("export runs")
+    };
+    let first = export();
+    let first_out = String::from_utf8_lossy(&first.stdout);
+    assert!(
+        first.status.success() && first_out.contains("3 assets") && first_out.contains("3 new"),
+        "{first_out}{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let root = out.join("shelf");
+    let index = std::fs::read_to_string(root.join("index.csv")).expect("index");
+    let rows: Vec<&str> = index.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{index}");
+    let table_row = rows
+        .iter()
+        .find(|r| r.contains("gensim2-20453"))
+        .expect("the table's row");
+    let entity = root.join(table_row.split(',').next().expect("entity"));
+    for file in [
+        "model.urdf",
+        "model.xml",
+        "meta_data.json",
+        "annotations/object.json",
+        "annotations/part_0.json",
+        "parts/part_0.obj",
+        "npzs/model.npz",
+        "coordinate_frame.json",
+    ] {
+        assert!(
+            entity.join(file).is_file(),
+            "{file} in {}",
+            entity.display()
+        );
+    }
+    // One movable joint, the drawer's slide, declared by the URDF.
+    let fields: Vec<&str> = table_row.split(',').collect();
+    assert_eq!((fields[7], fields[9]), ("1", "1"), "{table_row}");
+    assert!(root.join("statistics.json").is_file() && root.join("failures.csv").is_file());
+    let again = export();
+    let again_out = String::from_utf8_lossy(&again.stdout);
+    assert!(
+        again.status.success() && again_out.contains("0 new, 3 already there"),
+        "{again_out}"
     );
 
     for (args, expected) in [

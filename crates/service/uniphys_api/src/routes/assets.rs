@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use uniphys_queue::{AssetId, JobDetail, JobFilter, JobState, TenantId};
 use utoipa::{IntoParams, ToSchema};
 
+use super::batches::batch_label;
 use crate::ApiState;
 use crate::error::{ApiError, ApiResult, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Tenant};
@@ -28,6 +29,8 @@ pub(crate) struct ListParams {
     state: Option<String>,
     /// Only jobs of this asset (`asset_<n>` or `<n>`).
     asset: Option<String>,
+    /// Only jobs in this batch (see `GET /v1/batches`).
+    batch: Option<String>,
     /// Only jobs older than this one (`job_<n>`): the `next` of the previous page.
     before: Option<String>,
     /// Page size, 1 to 1000 (default 100).
@@ -91,6 +94,9 @@ pub(crate) async fn list(
     ApiQuery(params): ApiQuery<ListParams>,
 ) -> ApiResult<Json<AssetList>> {
     let limit = page_limit(params.limit, DEFAULT_PAGE, MAX_PAGE)?;
+    if let Some(batch) = &params.batch {
+        batch_label(batch)?;
+    }
     let filter = JobFilter {
         state: params.state.as_deref().map(job_state).transpose()?,
         asset: params
@@ -103,6 +109,7 @@ pub(crate) async fn list(
             .as_deref()
             .map(|b| ids::job_id("before", b))
             .transpose()?,
+        batch: params.batch.clone(),
         limit,
     };
     let jobs = state.store.list_jobs(tenant, &filter).await?;

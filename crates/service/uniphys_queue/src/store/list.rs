@@ -5,12 +5,14 @@ use crate::db::{DbRow, Sql, args};
 use crate::{AssetId, JobId, JobState, QueueError, QueueResult, TenantId};
 
 /// Which jobs to list.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct JobFilter {
     /// Only jobs in this state.
     pub state: Option<JobState>,
     /// Only jobs of this asset.
     pub asset: Option<AssetId>,
+    /// Only jobs in this batch of the tenant.
+    pub batch: Option<String>,
     /// Only jobs older than this one (the last id of the previous page).
     pub before: Option<JobId>,
     /// Page size (at most 1000).
@@ -23,6 +25,7 @@ impl Default for JobFilter {
         Self {
             state: None,
             asset: None,
+            batch: None,
             before: None,
             limit: 100,
         }
@@ -55,6 +58,8 @@ static LIST: Sql = Sql::new(
        AND ($2 IS NULL OR j.state = $2)
        AND ($3 IS NULL OR j.asset_id = $3)
        AND ($4 IS NULL OR j.id < $4)
+       AND ($6 IS NULL OR EXISTS (SELECT 1 FROM batch_items b
+                                  WHERE b.tenant_id = j.tenant_id AND b.batch = $6 AND b.job_id = j.id))
      ORDER BY j.id DESC
      LIMIT $5",
 );
@@ -79,6 +84,7 @@ impl QueueStore {
                     filter.asset.map(|a| a.0),
                     filter.before.map(|j| j.0),
                     i64::from(filter.limit.min(MAX_PAGE)),
+                    filter.batch.clone(),
                 ],
             )
             .await?;

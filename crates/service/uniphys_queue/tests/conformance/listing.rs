@@ -88,6 +88,40 @@ pub async fn listing_filters_and_pages_a_tenants_jobs(backend: Backend) {
         .expect("list");
     assert_eq!(of_asset.len(), 1);
     assert_eq!(of_asset[0].id, jobs[2].job_id);
+
+    // A batch's jobs: only those submitted into it, and only this tenant's.
+    let mut in_batch = Vec::new();
+    for name in ["b0", "b1"] {
+        let sub = t
+            .store
+            .submit_in_batch(acme, &harness::asset(name), &spec, Some("shelves"))
+            .await
+            .expect("submit");
+        in_batch.push(sub.job_id);
+    }
+    t.store
+        .submit_in_batch(other, &harness::asset("theirs-b"), &spec, Some("shelves"))
+        .await
+        .expect("submit");
+    let batch = |label: &str| JobFilter {
+        batch: Some(label.to_owned()),
+        ..JobFilter::default()
+    };
+    let listed = t
+        .store
+        .list_jobs(acme, &batch("shelves"))
+        .await
+        .expect("list");
+    let ids: Vec<_> = listed.iter().map(|j| j.id).collect();
+    in_batch.reverse();
+    assert_eq!(ids, in_batch);
+    assert!(
+        t.store
+            .list_jobs(acme, &batch("nothing"))
+            .await
+            .expect("list")
+            .is_empty()
+    );
     t.finish().await;
 }
 

@@ -58,14 +58,15 @@ pub struct StatusArgs {
     pub json: bool,
 }
 
-struct Client {
+/// A client of the service's HTTP API with its key.
+pub(crate) struct Client {
     agent: ureq::Agent,
     base: String,
     key: String,
 }
 
 impl Client {
-    fn new(args: &ClientArgs) -> anyhow::Result<Self> {
+    pub(crate) fn new(args: &ClientArgs) -> anyhow::Result<Self> {
         let key = match &args.api_key {
             Some(key) => key.clone(),
             None => {
@@ -110,13 +111,45 @@ impl Client {
         bail!("{what}: {message} (HTTP {})", status.as_u16())
     }
 
-    fn get(&self, path: &str) -> anyhow::Result<Value> {
+    pub(crate) fn get(&self, path: &str) -> anyhow::Result<Value> {
         let response = self
             .agent
             .get(format!("{}{path}", self.base))
             .header("authorization", format!("Bearer {}", self.key))
             .call();
         self.answer(response, &format!("GET {path}"))
+    }
+
+    /// Streams `GET path` into a new file at `dest`; returns its lowercase hex SHA-256 and size.
+    pub(crate) fn download(&self, path: &str, dest: &Path) -> anyhow::Result<(String, u64)> {
+        use sha2::Digest;
+        let mut response = self
+            .agent
+            .get(format!("{}{path}", self.base))
+            .header("authorization", format!("Bearer {}", self.key))
+            .call()
+            .with_context(|| format!("GET {path}: cannot reach the API at {}", self.base))?;
+        if !response.status().is_success() {
+            bail!("GET {path}: HTTP {}", response.status().as_u16());
+        }
+        let mut file = std::fs::File::create(dest)
+            .with_context(|| format!("cannot create {}", dest.display()))?;
+        let mut hasher = sha2::Sha256::new();
+        let mut reader = response.body_mut().with_config().limit(u64::MAX).reader();
+        let mut buffer = vec![0u8; 1 << 16];
+        let mut size = 0u64;
+        loop {
+            let n = std::io::Read::read(&mut reader, &mut buffer)
+                .with_context(|| format!("GET {path}: the download broke off"))?;
+            if n == 0 {
+                break;
+            }
+            hasher.update(&buffer[..n]);
+            std::io::Write::write_all(&mut file, &buffer[..n])
+                .with_context(|| format!("cannot write {}", dest.display()))?;
+            size += n as u64;
+        }
+        Ok((hex::encode(hasher.finalize()), size))
     }
 
     fn upload(&self, file: &Path, priority: i32, batch: Option<&str>) -> anyhow::Result<Value> {

@@ -1,8 +1,9 @@
 //! The service commands: `serve` (embedded: API and workers in one process), `api`, `worker`,
-//! `migrate`, `tenant`, and the API client commands `submit` and `status`.
+//! `migrate`, `tenant`, and the API client commands `submit`, `status` and `dataset export`.
 
 pub mod client;
 pub mod config;
+pub mod dataset;
 mod hooks;
 mod runtime;
 pub mod server;
