@@ -135,6 +135,11 @@ async fn serve_connection(
     mut stop: watch::Receiver<bool>,
     _guard: OpenGuard,
 ) {
+    // Answers go out as written: with Nagle's algorithm a keep-alive client's next request
+    // waits for the delayed ACK of a response's last small packet (40 ms per request here).
+    if let Err(e) = stream.set_nodelay(true) {
+        tracing::debug!(client = %peer, error = %e, "TCP_NODELAY not set");
+    }
     let mut builder = http1::Builder::new();
     builder
         .timer(TokioTimer::new())
