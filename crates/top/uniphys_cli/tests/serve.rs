@@ -111,6 +111,45 @@ fn serve_submit_watch_status_and_shutdown() {
         "{message}"
     );
 
+    // A manifest of objects already in the store (the local store is a folder of the data dir),
+    // one missing: the others go on, the missing one is named; sent again, nothing new.
+    let incoming = dir.path().join("objects/incoming/t1");
+    std::fs::create_dir_all(&incoming).expect("incoming");
+    for name in ["cabinet.glb", "mug.glb"] {
+        std::fs::copy(examples.join(name), incoming.join(format!("copy-{name}"))).expect("copy");
+    }
+    let manifest = dir.path().join("manifest.jsonl");
+    std::fs::write(
+        &manifest,
+        "{\"url\": \"incoming/t1/copy-cabinet.glb\"}\n{\"url\": \"incoming/t1/gone.glb\"}\n{\"url\": \"incoming/t1/copy-mug.glb\"}\n",
+    )
+    .expect("manifest");
+    let send = || {
+        uniphys(dir.path(), &api_url)
+            .args(["submit", "--batch", "copies"])
+            .arg(&manifest)
+            .output()
+            .expect("submit runs")
+    };
+    let sent = send();
+    let sent_out = String::from_utf8_lossy(&sent.stdout);
+    assert!(sent.status.success(), "{sent_out}");
+    assert!(
+        sent_out.contains("item 1: refused") && sent_out.contains("gone.glb"),
+        "{sent_out}"
+    );
+    // The cabinet is new; the mug's bytes were submitted above under another name.
+    assert!(
+        sent_out.contains("1 new, 1 already submitted, 1 refused"),
+        "{sent_out}"
+    );
+    let resent = send();
+    let resent_out = String::from_utf8_lossy(&resent.stdout);
+    assert!(
+        resent_out.contains("0 new, 2 already submitted, 1 refused"),
+        "{resent_out}"
+    );
+
     let out = dir.path().join("datasets");
     let export = || {
         uniphys(dir.path(), &api_url)

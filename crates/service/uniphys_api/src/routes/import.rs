@@ -53,6 +53,11 @@ pub struct BatchRequest {
     /// The batch every item joins (1 to 64 ASCII letters, digits, `.`, `_`, `-`); items without
     /// one of their own join none when absent.
     pub batch: Option<String>,
+    /// `true` (the default): one invalid item refuses the whole manifest (422) and nothing is
+    /// submitted. `false`: each invalid item gets its own error result and the valid ones are
+    /// submitted (a large manifest sent in chunks, where one missing object must not hold back
+    /// the rest).
+    pub all_or_nothing: Option<bool>,
 }
 
 /// The result of one batch item.
@@ -122,7 +127,9 @@ pub(crate) async fn by_url(
 /// Submit many assets from a manifest.
 ///
 /// Every item is validated first (all or nothing: one bad item answers 422 naming each bad item
-/// and submits none); then each is submitted and gets its own result.
+/// and submits none; with `all_or_nothing: false` a bad item gets its own error result and the
+/// others go on); then each is submitted and gets its own result. Re-submitting known content
+/// answers 200 for it with the existing job, so a manifest sent again makes no new jobs.
 #[utoipa::path(
     post,
     path = "/v1/batches",
@@ -168,14 +175,19 @@ pub(crate) async fn batch(
         .await;
     let mut imports = Vec::with_capacity(checks.len());
     let mut problems = Vec::new();
+    let mut refused = Vec::new();
     for (index, check) in checks.into_iter().enumerate() {
         match check {
-            Ok(import) => imports.push(import),
+            Ok(import) => imports.push((index, import)),
             Err(e @ (ApiError::Unavailable(_) | ApiError::Internal(_))) => return Err(e),
-            Err(e) => problems.push(format!("items[{index}]: {e}")),
+            Err(e) => {
+                problems.push(format!("items[{index}]: {e}"));
+                refused.push(failed_item(index, &e));
+            }
         }
     }
-    if !problems.is_empty() {
+    let all_or_nothing = request.all_or_nothing.unwrap_or(true);
+    if all_or_nothing && !problems.is_empty() {
         return Err(ApiError::Unprocessable(format!(
             "{} of {} items are invalid, nothing was submitted: {}",
             problems.len(),
@@ -187,7 +199,6 @@ pub(crate) async fn batch(
     let state = &state;
     let submissions: Vec<_> = imports
         .into_iter()
-        .enumerate()
         .map(|(index, import)| async move {
             match run_import(state, tenant, import).await {
                 Ok((created, answer)) => BatchItemResult {
@@ -197,25 +208,32 @@ pub(crate) async fn batch(
                     error: None,
                 },
                 Err(e) => {
-                    let (status, body) = e.to_body();
-                    if status.is_server_error() {
+                    if e.to_body().0.is_server_error() {
                         tracing::error!(index, error = %e, "batch item failed");
                     }
-                    BatchItemResult {
-                        index,
-                        status: status.as_u16(),
-                        submission: None,
-                        error: Some(body.error),
-                    }
+                    failed_item(index, &e)
                 }
             }
         })
         .collect();
-    let items = futures::stream::iter(submissions)
+    let mut items: Vec<BatchItemResult> = futures::stream::iter(submissions)
         .buffered(BATCH_CONCURRENCY)
         .collect()
         .await;
+    items.extend(refused);
+    items.sort_by_key(|item| item.index);
     Ok(Json(BatchResponse { items }))
+}
+
+/// The result of item `index` that failed with `e`.
+fn failed_item(index: usize, e: &ApiError) -> BatchItemResult {
+    let (status, body) = e.to_body();
+    BatchItemResult {
+        index,
+        status: status.as_u16(),
+        submission: None,
+        error: Some(body.error),
+    }
 }
 
 /// Checks the key (form, tenant prefix, existence, size) and the filename.

@@ -38,6 +38,7 @@ cases!(
     submit::an_upload_creates_an_asset_and_the_same_bytes_return_the_same_ids,
     submit::an_object_in_the_store_is_submitted_by_key,
     submit::a_batch_is_validated_whole_before_anything_is_submitted,
+    submit::a_partial_batch_submits_the_valid_items_and_refuses_each_bad_one,
     submit::a_full_backlog_answers_429_with_retry_after,
     archives::an_archived_asset_folder_is_accepted_stored_whole_and_idempotent,
     archives::a_hostile_archive_is_422_with_its_reason_and_stores_nothing,

@@ -203,3 +203,51 @@ pub async fn a_full_backlog_answers_429_with_retry_after(backend: Backend) {
     assert_eq!(other.status, StatusCode::CREATED, "the cap is per tenant");
     app.finish().await;
 }
+
+pub async fn a_partial_batch_submits_the_valid_items_and_refuses_each_bad_one(backend: Backend) {
+    let Some(app) = TestApp::open(backend, |c| c).await else {
+        return;
+    };
+    let t = app.tenant.0;
+    for name in ["a.glb", "b.glb"] {
+        app.artifacts
+            .put(&format!("incoming/t{t}/{name}"), name.as_bytes().to_vec())
+            .await
+            .expect("put");
+    }
+    let manifest = format!(
+        r#"{{"all_or_nothing": false, "batch": "chunk", "items": [{{"url": "incoming/t{t}/a.glb"}}, {{"url": "incoming/t{t}/missing.glb"}}, {{"url": "incoming/t{t}/b.glb"}}, {{"url": "incoming/t{t}/b.glb", "filename": "noext"}}]}}"#
+    );
+    let statuses = |answer: &crate::harness::Answer| -> Vec<u64> {
+        answer.json()["items"]
+            .as_array()
+            .expect("items")
+            .iter()
+            .map(|i| i["status"].as_u64().expect("status"))
+            .collect()
+    };
+    let first = app.post_json("/v1/batches", &manifest).await;
+    assert_eq!(first.status, StatusCode::OK, "{}", first.error().1);
+    assert_eq!(statuses(&first), [201, 422, 201, 422], "in manifest order");
+    let items = first.json()["items"].clone();
+    assert!(
+        items[1]["error"]["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("missing.glb")),
+        "{items}"
+    );
+    // Sent again, the known items are the same jobs and nothing new is made.
+    let again = app.post_json("/v1/batches", &manifest).await;
+    assert_eq!(statuses(&again), [200, 422, 200, 422]);
+    assert_eq!(
+        again.json()["items"][0]["submission"]["job_id"],
+        items[0]["submission"]["job_id"]
+    );
+    let jobs = app
+        .store
+        .list_jobs(app.tenant, &JobFilter::default())
+        .await
+        .expect("list");
+    assert_eq!(jobs.len(), 2);
+    app.finish().await;
+}

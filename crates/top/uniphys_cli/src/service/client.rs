@@ -30,7 +30,9 @@ pub struct SubmitArgs {
     pub client: ClientArgs,
     /// Asset files to upload, asset folders (a URDF folder with its meshes, an OBJ with its MTL
     /// and textures: each packed into one .tar.gz, the same bytes every time, so a re-submission
-    /// is the same asset), or one batch manifest (`.json`: `{"items": [{"url": ...}]}`).
+    /// is the same asset), or one batch manifest of objects in the store (`.json`:
+    /// `{"items": [{"url": ...}], "batch": ...}`, or `.jsonl`: one item per line, read as it is
+    /// sent), submitted in chunks; each refused item is named with why, the others go on.
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
     /// Priority of the jobs (higher runs first).
@@ -174,22 +176,33 @@ impl Client {
         self.answer(response, &format!("upload {}", file.display()))
     }
 
-    fn batch(&self, manifest: &Path, batch: Option<&str>) -> anyhow::Result<Value> {
-        let text = std::fs::read_to_string(manifest)
-            .with_context(|| format!("cannot read {}", manifest.display()))?;
-        let mut body: Value = serde_json::from_str(&text)
-            .with_context(|| format!("{} is not JSON", manifest.display()))?;
-        if let (Some(batch), Some(object)) = (batch, body.as_object_mut()) {
-            object
-                .entry("batch")
-                .or_insert_with(|| Value::String(batch.to_owned()));
+    /// `POST /v1/batches` with `body`; a full backlog (429) or an unavailable service (503) is
+    /// waited out as its `Retry-After` says and the same body sent again (known items answer
+    /// 200 with their jobs, so a repeat makes nothing twice).
+    pub(crate) fn post_batch(&self, body: &Value) -> anyhow::Result<Value> {
+        loop {
+            let response = self
+                .agent
+                .post(format!("{}/v1/batches", self.base))
+                .header("authorization", format!("Bearer {}", self.key))
+                .send_json(body);
+            if let Ok(r) = &response {
+                let status = r.status().as_u16();
+                if status == 429 || status == 503 {
+                    let wait_secs = r
+                        .headers()
+                        .get("retry-after")
+                        .and_then(|v| v.to_str().ok())
+                        .and_then(|v| v.parse::<u64>().ok())
+                        .unwrap_or(5)
+                        .clamp(1, 300);
+                    eprintln!("the service is busy (HTTP {status}): waiting {wait_secs} s");
+                    std::thread::sleep(Duration::from_secs(wait_secs));
+                    continue;
+                }
+            }
+            return self.answer(response, "POST /v1/batches");
         }
-        let response = self
-            .agent
-            .post(format!("{}/v1/batches", self.base))
-            .header("authorization", format!("Bearer {}", self.key))
-            .send_json(body);
-        self.answer(response, &format!("batch {}", manifest.display()))
     }
 }
 
@@ -197,26 +210,10 @@ impl Client {
 pub fn submit(args: &SubmitArgs) -> anyhow::Result<ExitCode> {
     let client = Client::new(&args.client)?;
     let mut submitted: Vec<(String, String)> = Vec::new();
-    let is_manifest = |p: &PathBuf| p.extension().is_some_and(|e| e == "json");
+    let is_manifest = |p: &PathBuf| p.extension().is_some_and(|e| e == "json" || e == "jsonl");
     if args.inputs.len() == 1 && is_manifest(&args.inputs[0]) {
-        let answer = client.batch(&args.inputs[0], args.batch.as_deref())?;
-        for item in answer["items"].as_array().into_iter().flatten() {
-            let index = item["index"].as_u64().unwrap_or_default();
-            match item["submission"].as_object() {
-                Some(s) => {
-                    let asset = s["asset_id"].as_str().unwrap_or_default().to_owned();
-                    println!(
-                        "item {index}: {asset} job {}",
-                        s["job_id"].as_str().unwrap_or_default()
-                    );
-                    submitted.push((format!("item {index}"), asset));
-                }
-                None => println!(
-                    "item {index}: refused: {}",
-                    item["error"]["message"].as_str().unwrap_or("?")
-                ),
-            }
-        }
+        submitted =
+            super::manifest::submit_manifest(&client, &args.inputs[0], args.batch.as_deref())?;
     } else {
         for input in &args.inputs {
             let packed = packed_folder(input)?;

@@ -5,6 +5,7 @@ pub mod client;
 pub mod config;
 pub mod dataset;
 mod hooks;
+mod manifest;
 mod runtime;
 pub mod server;
 pub mod server_args;
