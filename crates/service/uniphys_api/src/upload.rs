@@ -9,7 +9,7 @@ use futures::StreamExt;
 use sha2::{Digest, Sha256};
 use tempfile::TempPath;
 use tokio::io::AsyncWriteExt;
-use uniphys_archive::{ArchiveError, ArchiveKind, ArchiveLimits, Listing};
+use uniphys_archive::{ArchiveError, ArchiveKind, ArchiveLimits};
 use uniphys_types::SourceFormat;
 
 use crate::error::{ApiError, ApiResult, error_chain};
@@ -232,16 +232,16 @@ pub(crate) fn source_filename(raw: &str) -> ApiResult<String> {
     Ok(name)
 }
 
-/// Checks a spooled archive (every entry read, nothing written) when `filename` names one:
-/// `None` for a single file, the listing for a sound archive, 422 with the reason for one the
-/// limits or rules refuse (a path out of its folder, a link, a bomb, no asset in it).
+/// Checks a spooled archive (every entry read, nothing written) when `filename` names one (a
+/// single file passes as it is): 422 with the reason for one the limits or rules refuse (a path
+/// out of its folder, a link, a bomb, no asset in it).
 pub(crate) async fn check_archive(
     path: &std::path::Path,
     filename: &str,
     limits: ArchiveLimits,
-) -> ApiResult<Option<Listing>> {
+) -> ApiResult<()> {
     let Some(kind) = ArchiveKind::from_name(filename) else {
-        return Ok(None);
+        return Ok(());
     };
     let path = path.to_path_buf();
     let listed =
@@ -249,7 +249,10 @@ pub(crate) async fn check_archive(
             .await
             .map_err(|e| ApiError::Internal(format!("archive check failed: {e}")))?;
     match listed {
-        Ok(listing) => Ok(Some(listing)),
+        Ok(listing) => {
+            tracing::debug!(filename, main_file = %listing.main_file, files = listing.files, "archive checked");
+            Ok(())
+        }
         Err(e @ ArchiveError::Io { .. }) => Err(ApiError::Internal(format!(
             "checking the archive {filename}: {e}"
         ))),

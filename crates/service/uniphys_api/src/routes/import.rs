@@ -9,6 +9,7 @@ use axum::extract::State;
 use axum::response::Response;
 use futures::{StreamExt, TryStreamExt};
 use serde::{Deserialize, Serialize};
+use uniphys_archive::{ArchiveKind, DeterministicTar};
 use uniphys_queue::TenantId;
 use utoipa::ToSchema;
 
@@ -21,7 +22,6 @@ use crate::state::Shared;
 use crate::upload::{
     Spooled, digest_file, empty_source, source_filename, spool, spool_file, too_large,
 };
-use uniphys_archive::{ArchiveKind, DeterministicTar};
 
 /// Batch items submitted at the same time.
 const BATCH_CONCURRENCY: usize = 8;
