@@ -43,6 +43,6 @@ pub use store::{
     FailOutcome, FailureKind, JobDetail, JobEvent, JobFilter, JobSummary, Lease,
     MAX_BATCH_LABEL_CHARS, MAX_MANIFEST_BYTES, MAX_TENANT_NAME_CHARS, NewAsset, PurgeReport,
     QueueStore, RecoveryReport, RetentionPolicy, RunContext, RunRef, StageCost, StageFailure,
-    StageRunInfo, StageStats, Submission, TableHealth, WorkItem, validate_batch_label,
-    validate_tenant_name,
+    StageRunInfo, StageStats, Submission, TableHealth, WorkItem, oversized_manifest_bytes,
+    validate_batch_label, validate_tenant_name,
 };

@@ -10,7 +10,7 @@ use tracing::{Instrument, info, warn};
 use uniphys_hints::Progress;
 use uniphys_queue::{
     ClaimedRun, FailOutcome, MAX_MANIFEST_BYTES, OutputManifest, QueueError, QueueErrorKind,
-    QueueResult, StageCost, StageFailure,
+    QueueResult, StageCost, StageFailure, oversized_manifest_bytes,
 };
 use uniphys_telemetry::{StageOutcome, stage_span};
 
@@ -167,7 +167,7 @@ async fn finish(
     let failure = match result {
         Ok(Ok(manifest)) => {
             let value = manifest.to_value();
-            if let Some(bytes) = oversize(&value) {
+            if let Some(bytes) = oversized_manifest_bytes(&value) {
                 // The store refuses it every time: failing now names why, where a refused
                 // completion would leave the run to lease recovery again and again.
                 StageFailure::permanent(format!(
@@ -222,12 +222,6 @@ async fn finish(
         Ok(FailOutcome::DeadLettered) => Some(StageOutcome::Dead),
         Err(e) => Some(dropped(shared, &e, &created).await),
     }
-}
-
-/// The size of a manifest the queue would refuse (over [`MAX_MANIFEST_BYTES`] of JSON), if so.
-fn oversize(value: &serde_json::Value) -> Option<usize> {
-    let bytes = serde_json::to_vec(value).map_or(usize::MAX, |v| v.len());
-    (bytes > MAX_MANIFEST_BYTES).then_some(bytes)
 }
 
 /// The outcome of a run whose end the store refused with `e`; a cancelled run's objects

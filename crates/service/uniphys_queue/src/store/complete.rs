@@ -311,10 +311,17 @@ impl QueueStore {
     }
 }
 
+/// The size in bytes of `manifest` as JSON when it is over [`MAX_MANIFEST_BYTES`]: a completion
+/// carrying it is refused.
+#[must_use]
+pub fn oversized_manifest_bytes(manifest: &Value) -> Option<usize> {
+    let bytes = manifest.to_string().len();
+    (bytes > MAX_MANIFEST_BYTES).then_some(bytes)
+}
+
 /// The error for a manifest over [`MAX_MANIFEST_BYTES`].
 fn oversized(manifest: &Value) -> Option<QueueError> {
-    let bytes = manifest.to_string().len();
-    (bytes > MAX_MANIFEST_BYTES).then(|| {
+    oversized_manifest_bytes(manifest).map(|bytes| {
         QueueError::Invalid(format!(
             "output manifest of {bytes} bytes exceeds {MAX_MANIFEST_BYTES}: store artifacts, not data"
         ))

@@ -28,7 +28,9 @@ use crate::{QueueResult, RetryPolicy, StoreConfig};
 pub use assets::{AssetInfo, RunContext};
 pub use batches::{BatchSummary, MAX_BATCH_LABEL_CHARS, validate_batch_label};
 pub use claim::{ClaimedRun, Lease};
-pub use complete::{CompleteOutcome, Completion, MAX_MANIFEST_BYTES, StageCost};
+pub use complete::{
+    CompleteOutcome, Completion, MAX_MANIFEST_BYTES, StageCost, oversized_manifest_bytes,
+};
 pub use control::RunRef;
 pub use events::JobEvent;
 pub use fail::{ErrorRecord, FailOutcome, FailureKind, RecoveryReport, StageFailure};
