@@ -300,7 +300,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
         .map(|(c, _)| c)
         .collect();
     let slide = best(&mut slides);
-    let panel = thin < THIN_RATIO * middle;
+    let panel = panel_normal(part).is_some();
     let enclosed = !panel && inside >= INSIDE_SHARE_MIN;
     let chosen = if enclosed {
         slide.clone().or_else(|| hinge.clone())
@@ -475,8 +475,7 @@ fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
     // A thin panel hinges about a line in its plane (a door, a lid, a screen). Turned about its
     // own normal it would wheel round in its plane like a clock hand, which only round parts
     // (spun) and parts held on a stem (twisted) do, and both are found before these lines.
-    let [thin, middle, _] = part.sorted_extents();
-    let normal = (thin < THIN_RATIO * middle).then(|| part.thinnest_axis());
+    let normal = panel_normal(part);
     for k in 0..3 {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         let levels = |r: (f64, f64)| [r.0, 0.5 * (r.0 + r.1), r.1];
@@ -514,6 +513,13 @@ fn hypotheses(mover: &Mover<'_>, part: &PartBox) -> Vec<Joint> {
         }
     }
     out
+}
+
+/// The normal of a thin panel (its thinnest box axis, when under [`THIN_RATIO`] of its middle
+/// extent: a door, a lid, a screen), or `None` for a part that is not one.
+fn panel_normal(part: &PartBox) -> Option<usize> {
+    let [thin, middle, _] = part.sorted_extents();
+    (thin < THIN_RATIO * middle).then(|| part.thinnest_axis())
 }
 
 /// The parent's box axis within [`SLIDE_SNAP_COS`] of `axis` (signed as `axis`), else `axis`: a

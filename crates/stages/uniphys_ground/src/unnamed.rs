@@ -134,14 +134,14 @@ pub(crate) fn unnamed_joints(
 /// open door hangs below); all of them when none stands.
 fn root_pool(big: &[usize], box_volumes: &[f64], scene: &Scene) -> Vec<usize> {
     let standing = |i: usize| scene.stands_on_ground(i);
-    let standing_bulk = big
+    let Some(standing_bulk) = big
         .iter()
         .filter(|&&i| standing(i))
         .map(|&i| box_volumes[i])
-        .fold(f64::NEG_INFINITY, f64::max);
-    if standing_bulk == f64::NEG_INFINITY {
+        .reduce(f64::max)
+    else {
         return big.to_vec();
-    }
+    };
     big.iter()
         .copied()
         .filter(|&i| standing(i) || box_volumes[i] >= HANGING_BULK_RATIO * standing_bulk)
