@@ -40,13 +40,9 @@ pub fn main_file(files: &[Vec<String>]) -> ArchiveResult<String> {
         })
         .collect();
     let Some(best) = candidates.iter().map(|(r, d, _)| (*r, *d)).min() else {
-        let known: Vec<String> = SourceFormat::ALL
-            .iter()
-            .map(|f| format!(".{}", f.extension()))
-            .collect();
         return Err(ArchiveError::NoAsset(format!(
             "the archive holds no file the pipeline reads ({}); put the asset's main file in it",
-            known.join(", ")
+            SourceFormat::listed_extensions()
         )));
     };
     let tied: Vec<&String> = candidates

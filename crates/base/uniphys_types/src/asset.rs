@@ -49,6 +49,17 @@ impl SourceFormat {
         }
     }
 
+    /// Every format's extension with its dot, comma-separated (`.glb, .gltf, ...`), for
+    /// messages that say what may be sent.
+    #[must_use]
+    pub fn listed_extensions() -> String {
+        Self::ALL
+            .iter()
+            .map(|f| format!(".{}", f.extension()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// The format a file extension (without the dot, any case) names, if any.
     #[must_use]
     pub fn from_extension(extension: &str) -> Option<Self> {

@@ -219,13 +219,9 @@ pub(crate) fn source_filename(raw: &str) -> ApiResult<String> {
     let extension = name.rsplit_once('.').map(|(_, e)| e).unwrap_or_default();
     if SourceFormat::from_extension(extension).is_none() && ArchiveKind::from_name(&name).is_none()
     {
-        let known: Vec<String> = SourceFormat::ALL
-            .iter()
-            .map(|f| format!(".{}", f.extension()))
-            .collect();
         return Err(ApiError::UnsupportedMediaType(format!(
             "{raw:?} is not a file the pipeline reads: the extension .{extension} names no supported format; send one of {}, or an archive ({}) holding one with the files it refers to",
-            known.join(", "),
+            SourceFormat::listed_extensions(),
             ArchiveKind::ENDINGS.join(", ")
         )));
     }

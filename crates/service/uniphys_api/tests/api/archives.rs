@@ -109,11 +109,7 @@ pub async fn a_hostile_archive_is_422_with_its_reason_and_stores_nothing(backend
         );
     }
     // By key the same check applies.
-    let key = format!("incoming/t{}/traversal.zip", app.tenant.0);
-    app.artifacts
-        .put(&key, traversal.clone())
-        .await
-        .expect("put");
+    let key = app.put_incoming("traversal.zip", &traversal).await;
     let by_key = app
         .post_json("/v1/assets/by-url", &format!(r#"{{"url": "{key}"}}"#))
         .await;
@@ -145,10 +141,7 @@ pub async fn a_folder_in_the_store_is_submitted_by_its_prefix(backend: Backend) 
         ("textured_objs/a.mtl", b"newmtl m\n"),
     ];
     for (name, bytes) in files {
-        app.artifacts
-            .put(&format!("incoming/t{t}/45213/{name}"), bytes.to_vec())
-            .await
-            .expect("put");
+        app.put_incoming(&format!("45213/{name}"), bytes).await;
     }
     let by_prefix = format!(r#"{{"url": "incoming/t{t}/45213/"}}"#);
     let first = app.post_json("/v1/assets/by-url", &by_prefix).await;
@@ -183,13 +176,7 @@ pub async fn a_folder_in_the_store_is_submitted_by_its_prefix(backend: Backend) 
     assert_eq!(again.status, StatusCode::OK);
     assert_eq!(again.json()["asset_id"], first.json()["asset_id"]);
 
-    app.artifacts
-        .put(
-            &format!("incoming/t{t}/notes/readme.txt"),
-            b"no mesh".to_vec(),
-        )
-        .await
-        .expect("put");
+    app.put_incoming("notes/readme.txt", b"no mesh").await;
     for (body, expect) in [
         (
             format!(r#"{{"url": "incoming/t{t}/nothing/"}}"#),

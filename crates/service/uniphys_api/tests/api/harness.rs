@@ -204,6 +204,14 @@ impl TestApp {
             .await
     }
 
+    /// Puts `bytes` in the object store at `incoming/t{tenant}/{name}` (where the main tenant
+    /// submits by key) and returns the key.
+    pub async fn put_incoming(&self, name: &str, bytes: &[u8]) -> String {
+        let key = format!("incoming/t{}/{name}", self.tenant.0);
+        self.artifacts.put(&key, bytes.to_vec()).await.expect("put");
+        key
+    }
+
     /// Uploads `bytes` as `filename` for the main tenant.
     pub async fn upload(&self, filename: &str, bytes: &[u8]) -> Answer {
         self.send(

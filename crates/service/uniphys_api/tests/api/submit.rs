@@ -116,10 +116,7 @@ pub async fn a_batch_is_validated_whole_before_anything_is_submitted(backend: Ba
     };
     let t = app.tenant.0;
     for name in ["a.glb", "b.glb"] {
-        app.artifacts
-            .put(&format!("incoming/t{t}/{name}"), name.as_bytes().to_vec())
-            .await
-            .expect("put");
+        app.put_incoming(name, name.as_bytes()).await;
     }
     let bad = format!(
         r#"{{"items": [{{"url": "incoming/t{t}/a.glb"}}, {{"url": "incoming/t{t}/missing.glb"}}, {{"url": "incoming/t{t}/b.glb", "filename": "noext"}}]}}"#
@@ -210,10 +207,7 @@ pub async fn a_partial_batch_submits_the_valid_items_and_refuses_each_bad_one(ba
     };
     let t = app.tenant.0;
     for name in ["a.glb", "b.glb"] {
-        app.artifacts
-            .put(&format!("incoming/t{t}/{name}"), name.as_bytes().to_vec())
-            .await
-            .expect("put");
+        app.put_incoming(name, name.as_bytes()).await;
     }
     let manifest = format!(
         r#"{{"all_or_nothing": false, "batch": "chunk", "items": [{{"url": "incoming/t{t}/a.glb"}}, {{"url": "incoming/t{t}/missing.glb"}}, {{"url": "incoming/t{t}/b.glb"}}, {{"url": "incoming/t{t}/b.glb", "filename": "noext"}}]}}"#
