@@ -2,6 +2,11 @@
 //! the centre of mass, one visual mesh and convex collision meshes per link, limits and dynamics on
 //! every movable joint, a `<mujoco>` compiler block for MuJoCo's importer, Bullet `<contact>`
 //! friction, and a massless `world` link that fixes the root.
+//!
+//! MuJoCo's importer is told to discard the visual meshes: it gives every mesh the volume-based
+//! inertia, which refuses an open or zero-thickness part (a flat button face, a lid that is one
+//! sheet) with "mesh volume is too small", and the importer has no way to mark a mesh as a shell.
+//! The collision hulls always have volume; `model.xml` carries both, visuals as shells.
 
 use uniphys_types::{Joint, JointKind};
 
@@ -21,7 +26,7 @@ pub(crate) fn write_urdf(model: &Model<'_>) -> String {
             Element::new("compiler")
                 .attr("meshdir", MESH_DIR)
                 .attr("balanceinertia", "true")
-                .attr("discardvisual", "false")
+                .attr("discardvisual", "true")
                 .attr("fusestatic", "false")
                 .attr("strippath", "true"),
         ),
