@@ -21,6 +21,7 @@
 //! | `GET /v1/overview?since_ms=` | the dashboard's poll: cached statistics, the tenant's jobs by state, history samples |
 //! | `GET /v1/work?state=running\|dead` | open or dead-lettered stage runs of the newest jobs, with last error and progress |
 //! | `GET /v1/batches`, `GET /v1/batches/{batch}/stats` | batch labels; a batch's dataset statistics |
+//! | `POST`, `GET /v1/batches/{batch}/export` | write the batch as a UniPhys-40K dataset into the object store (background); its progress |
 //! | `GET /healthz`, `/readyz`, `/metrics`, `/openapi.json` | operations (no key) |
 //! | `GET /`, `/ui/...` | the dashboard's static files (no key; the pages ask for one) |
 //!
@@ -39,11 +40,17 @@
 //! - `board.rs`, `ttl_cache.rs`: the dashboard's shared statistics, history sampler, and the
 //!   per-tenant counts and batch statistics cached for a few seconds.
 //! - `dataset_stats.rs`: [`DatasetStats`] of a batch from its `convert` summaries.
+//! - `dataset_layout.rs`: [`dataset_layout`], the UniPhys-40K layout of an exported batch (entity
+//!   names, type folders, the index and failure tables), shared with `uniphys dataset export`.
+//! - `dataset_export.rs`: [`DatasetExportView`] and the background export of a batch into the
+//!   object store.
 //! - `routes/`: the handlers, one file per resource.
 
 mod board;
 mod config;
 mod connections;
+mod dataset_export;
+pub mod dataset_layout;
 mod dataset_stats;
 mod error;
 mod extract;
@@ -59,6 +66,7 @@ mod views;
 
 pub use config::{ApiConfig, DEFAULT_MAX_UPLOAD_BYTES};
 pub use connections::{ConnectionLimits, serve_with_limits};
+pub use dataset_export::DatasetExportView;
 pub use dataset_stats::{DatasetStats, Distribution, dataset_stats};
 pub use error::{ApiError, ApiResult, ErrorBody, ErrorDetail};
 pub use hooks::{BoxFuture, MetricsText, NoHooks, ReadinessCheck, ServiceHooks};

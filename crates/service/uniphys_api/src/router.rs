@@ -17,7 +17,9 @@ use utoipa_axum::routes;
 use crate::connections::{ConnectionLimits, serve_with_limits};
 use crate::error::ApiError;
 use crate::routes::ops::OpenApiJson;
-use crate::routes::{artifacts, assets, batches, import, jobs, ops, overview, submit, work};
+use crate::routes::{
+    artifacts, assets, batches, exports, import, jobs, ops, overview, submit, work,
+};
 use crate::state::Shared;
 use crate::{ApiState, ServiceHooks};
 
@@ -58,6 +60,7 @@ fn api_routes() -> OpenApiRouter<Shared> {
         .routes(routes!(import::by_url))
         .routes(routes!(import::batch, batches::list))
         .routes(routes!(batches::stats))
+        .routes(routes!(exports::start, exports::status))
         .routes(routes!(assets::get))
         .routes(routes!(artifacts::list))
         .routes(routes!(artifacts::download))

@@ -6,6 +6,7 @@ use uniphys_queue::QueueStore;
 use uniphys_storage::ArtifactStore;
 
 use crate::board::Board;
+use crate::dataset_export::ExportRegistry;
 use crate::upload::{STALE_SPOOL, sweep_stale_spool};
 use crate::{ApiConfig, NoHooks, ServiceHooks};
 
@@ -23,6 +24,8 @@ pub struct ApiState {
     pub hooks: Arc<dyn ServiceHooks>,
     /// The dashboard's cached statistics and history.
     pub(crate) board: Arc<Board>,
+    /// The dataset exports this process runs or ran.
+    pub(crate) exports: Arc<ExportRegistry>,
 }
 
 impl ApiState {
@@ -43,6 +46,7 @@ impl ApiState {
             config,
             hooks: Arc::new(NoHooks),
             board: Arc::default(),
+            exports: Arc::default(),
         }
     }
 

@@ -2,7 +2,8 @@
 //! (SQLite and a local directory under its data dir), `uniphys submit --watch` of two example
 //! files and a real PartNet-Mobility folder (packed by `submit`) through the real pipeline into a
 //! batch, `uniphys status`, a readable error for an unknown asset, `uniphys dataset export` of the
-//! batch (and again, resumed), and a clean exit on SIGTERM.
+//! batch (and again, resumed; and by the service into its object store), and a clean exit on
+//! SIGTERM.
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
@@ -200,6 +201,35 @@ fn serve_submit_watch_status_and_shutdown() {
         again.status.success() && again_out.contains("0 new, 3 already there"),
         "{again_out}"
     );
+    // The same batch written by the service into its object store, the same entities.
+    let in_store = uniphys(dir.path(), &api_url)
+        .args(["dataset", "export", "--batch", "shelf", "--in-store"])
+        .output()
+        .expect("export runs");
+    let in_store_out = String::from_utf8_lossy(&in_store.stdout);
+    assert!(
+        in_store.status.success() && in_store_out.contains("3 new and 0 already there"),
+        "{in_store_out}{}",
+        String::from_utf8_lossy(&in_store.stderr)
+    );
+    let stored = dir.path().join("objects/datasets/t1/shelf");
+    let stored_index = std::fs::read_to_string(stored.join("index.csv")).expect("stored index");
+    let entities = |index: &str| -> Vec<String> {
+        let mut e: Vec<String> = index
+            .lines()
+            .skip(1)
+            .map(|r| r.split(',').next().unwrap_or_default().to_owned())
+            .collect();
+        e.sort();
+        e
+    };
+    assert_eq!(entities(&stored_index), entities(&index));
+    let stored_entity = stored.join(table_row.split(',').next().expect("entity"));
+    assert_eq!(
+        std::fs::read(stored_entity.join("model.xml")).expect("stored model.xml"),
+        std::fs::read(entity.join("model.xml")).expect("model.xml")
+    );
+    assert!(stored.join("export.json").is_file() && stored.join("failures.csv").is_file());
 
     for (args, expected) in [
         (&["stage", "pause", "convert"][..], "convert: paused"),

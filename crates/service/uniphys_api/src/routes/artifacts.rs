@@ -74,7 +74,7 @@ pub(crate) async fn list(
             items: Vec::new(),
         }));
     };
-    let mut items: Vec<ArtifactView> = artifacts(&job)
+    let mut items: Vec<ArtifactView> = succeeded_artifacts(&job)
         .map(|(stage, entry)| view(asset_id, stage, &entry))
         .collect();
     items.sort_by(|a, b| a.path.cmp(&b.path));
@@ -114,7 +114,7 @@ pub(crate) async fn download(
     let job = latest_job(&state, tenant, asset_id)
         .await?
         .ok_or_else(not_found)?;
-    let entry = artifacts(&job)
+    let entry = succeeded_artifacts(&job)
         .find(|(s, e)| *s == stage && e.name == name)
         .map(|(_, e)| e)
         .ok_or_else(not_found)?;
@@ -137,7 +137,7 @@ pub(crate) async fn download(
 }
 
 /// The artifacts of `job`'s succeeded stages, with their stage names.
-fn artifacts(job: &JobDetail) -> impl Iterator<Item = (&str, ArtifactEntry)> {
+pub(crate) fn succeeded_artifacts(job: &JobDetail) -> impl Iterator<Item = (&str, ArtifactEntry)> {
     job.stages
         .iter()
         .filter(|run| run.state == StageState::Succeeded)

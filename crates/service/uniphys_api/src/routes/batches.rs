@@ -141,7 +141,8 @@ pub(crate) async fn stats(
     Ok(Json(BatchStatsResponse::clone(&stats)))
 }
 
-async fn compute_stats(
+/// A batch's statistics computed now (404 for a batch with no jobs).
+pub(crate) async fn compute_stats(
     state: &ApiState,
     tenant: TenantId,
     batch: String,

@@ -3,6 +3,7 @@
 pub(crate) mod artifacts;
 pub(crate) mod assets;
 pub(crate) mod batches;
+pub(crate) mod exports;
 pub(crate) mod import;
 pub(crate) mod jobs;
 pub(crate) mod ops;

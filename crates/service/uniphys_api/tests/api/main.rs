@@ -7,6 +7,7 @@ mod harness;
 mod archives;
 mod bad_input;
 mod dashboard;
+mod exports;
 mod listener;
 mod ops;
 mod status;
@@ -65,4 +66,5 @@ cases!(
     dashboard::work_lists_open_stages_and_dead_letters_with_their_errors,
     dashboard::a_batch_counts_its_converted_assets,
     dashboard::the_dashboard_is_served_without_a_key,
+    exports::a_batch_is_exported_into_the_store_and_again_adds_only_what_is_new,
 );

@@ -23,6 +23,8 @@ const ROUTES: &[&str] = &[
     "GET /v1/assets/{asset_id}/artifacts/{name}",
     "GET /v1/batches",
     "POST /v1/batches",
+    "GET /v1/batches/{batch}/export",
+    "POST /v1/batches/{batch}/export",
     "GET /v1/batches/{batch}/stats",
     "GET /v1/jobs/{job_id}",
     "POST /v1/jobs/{job_id}/cancel",

@@ -122,6 +122,16 @@ impl Client {
         self.answer(response, &format!("GET {path}"))
     }
 
+    /// `POST path` with no body.
+    pub(crate) fn post(&self, path: &str) -> anyhow::Result<Value> {
+        let response = self
+            .agent
+            .post(format!("{}{path}", self.base))
+            .header("authorization", format!("Bearer {}", self.key))
+            .send_empty();
+        self.answer(response, &format!("POST {path}"))
+    }
+
     /// Streams `GET path` into a new file at `dest`; returns its lowercase hex SHA-256 and size.
     pub(crate) fn download(&self, path: &str, dest: &Path) -> anyhow::Result<(String, u64)> {
         use sha2::Digest;

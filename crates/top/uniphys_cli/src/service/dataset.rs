@@ -9,6 +9,9 @@
 //! Resumable and safe while the batch runs: an entity is downloaded into `.partial/` and moved
 //! into place only when whole (every file's SHA-256 checked), so an entity folder that exists is
 //! complete and is not fetched again; assets still running are counted and left for a later run.
+//!
+//! With `--in-store`, the service writes the same layout (without the npz inputs) into its own
+//! object store (`POST /v1/batches/{batch}/export`) and this command follows its progress.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -16,6 +19,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use serde_json::Value;
+use uniphys_api::dataset_layout::{self as layout, FAILURE_COLUMNS, INDEX_COLUMNS};
 
 use super::client::{Client, ClientArgs};
 
@@ -29,12 +33,20 @@ pub struct ExportArgs {
     #[arg(long)]
     pub batch: String,
     /// The dataset root: the batch is written to `<out>/<batch>/`.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(
+        long,
+        required_unless_present = "in_store",
+        conflicts_with = "in_store"
+    )]
+    pub out: Option<PathBuf>,
     /// Leave out the UniPhysGen model inputs (npz point clouds), which take a few seconds per
     /// asset.
     #[arg(long)]
     pub no_npz: bool,
+    /// Have the service write the dataset into its object store (`datasets/t{tenant}/{batch}/`,
+    /// without the npz inputs) and follow its progress, instead of downloading it here.
+    #[arg(long)]
+    pub in_store: bool,
 }
 
 /// `uniphys dataset` actions.
@@ -58,8 +70,11 @@ struct Tally {
 pub fn export(args: &ExportArgs) -> anyhow::Result<ExitCode> {
     let client = Client::new(&args.client)?;
     let batch = &args.batch;
+    let Some(out) = &args.out else {
+        return export_in_store(&client, batch);
+    };
     let statistics = client.get(&format!("/v1/batches/{batch}/stats"))?;
-    let root = args.out.join(batch);
+    let root = out.join(batch);
     std::fs::create_dir_all(&root).with_context(|| format!("cannot create {}", root.display()))?;
     let mut done = complete_entities(&root)?;
     let mut rows = Vec::new();
@@ -77,7 +92,7 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<ExitCode> {
             let (asset, job, file) = (text("asset_id"), text("job_id"), text("file_name"));
             match item["state"].as_str().unwrap_or_default() {
                 "succeeded" => {
-                    let entity = entity_name(&file, &asset);
+                    let entity = layout::entity_name(&file, &asset);
                     let place = if let Some(place) = done.get(&entity) {
                         tally.already_there += 1;
                         place.clone()
@@ -122,24 +137,42 @@ pub fn export(args: &ExportArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The folder name of an asset's entity: its file's stem (letters, digits, `-`, `_`) and its id,
-/// unique in the batch.
-fn entity_name(file_name: &str, asset: &str) -> String {
-    let stem = file_name
-        .strip_suffix(".tar.gz")
-        .or_else(|| file_name.rsplit_once('.').map(|(s, _)| s))
-        .unwrap_or(file_name);
-    let stem: String = stem
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    format!("{stem}_{asset}")
+/// `uniphys dataset export --in-store`: starts the service's export and prints its progress
+/// until it ends.
+fn export_in_store(client: &Client, batch: &str) -> anyhow::Result<ExitCode> {
+    let path = format!("/v1/batches/{batch}/export");
+    let mut view = client.post(&path)?;
+    let mut last = String::new();
+    while view["state"] == "running" {
+        let line = format!(
+            "{}: {} jobs read, {} exported, {} already there",
+            view["prefix"].as_str().unwrap_or_default(),
+            view["jobs_read"],
+            view["exported"],
+            view["already_there"]
+        );
+        if line != last {
+            eprintln!("{line}");
+            last = line;
+        }
+        std::thread::sleep(std::time::Duration::from_secs(1));
+        view = client.get(&path)?;
+    }
+    if view["state"] != "finished" {
+        bail!(
+            "the service's export of {batch} failed: {}",
+            view["error"].as_str().unwrap_or("no reason given")
+        );
+    }
+    println!(
+        "batch {batch}: {} new and {} already there in the object store under {}; {} still running (run again to add them); {} failed (failures.csv)",
+        view["exported"],
+        view["already_there"],
+        view["prefix"].as_str().unwrap_or_default(),
+        view["still_running"],
+        view["failed"]
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The entities already exported under `root`: entity name to `<type>/<entity>`.
@@ -187,7 +220,7 @@ fn export_entity(
     let listing = client.get(&format!("/v1/assets/{asset}/artifacts"))?;
     let mut files = 0usize;
     for item in listing["items"].as_array().into_iter().flatten() {
-        if item["stage"] != "convert" {
+        if item["stage"] != layout::ENTITY_STAGE {
             continue;
         }
         let name = item["name"].as_str().unwrap_or_default();
@@ -213,7 +246,7 @@ fn export_entity(
             .context("writing the UniPhysGen model inputs")?;
     }
     let object: Value = read_json(&partial.join("annotations/object.json"))?;
-    let kind = type_name(object["category"].as_str().unwrap_or_default());
+    let kind = layout::type_name(object["category"].as_str().unwrap_or_default());
     let place = format!("{kind}/{entity}");
     let target = root.join(&kind);
     std::fs::create_dir_all(&target)
@@ -223,43 +256,11 @@ fn export_entity(
     Ok(place)
 }
 
-/// The type folder of a category (`KitchenDining/KitchenAppliance` → `KitchenAppliance`).
-fn type_name(category: &str) -> String {
-    let last = category.rsplit('/').next().unwrap_or_default();
-    let clean: String = last
-        .chars()
-        .filter(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '-')
-        .collect();
-    if clean.is_empty() {
-        "Unknown".to_owned()
-    } else {
-        clean
-    }
-}
-
 fn read_json(path: &Path) -> anyhow::Result<Value> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))
 }
-
-/// Columns of `index.csv`.
-const INDEX_COLUMNS: &[&str] = &[
-    "entity",
-    "asset_id",
-    "job_id",
-    "source_file",
-    "category",
-    "mass_kg",
-    "parts",
-    "movable_joints",
-    "revolute",
-    "prismatic",
-    "continuous",
-    "verification_passed",
-    "joint_providers",
-    "npz_files",
-];
 
 /// One row of `index.csv`, read from the exported entity.
 fn index_row(
@@ -272,59 +273,17 @@ fn index_row(
     let dir = root.join(place);
     let record = read_json(&dir.join("record.json"))?;
     let report = read_json(&dir.join("report.json"))?;
-    let joints: Vec<&Value> = record["joints"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .filter(|j| j["kind"] != "fixed")
-        .collect();
-    let count = |kind: &str| joints.iter().filter(|j| j["kind"] == kind).count();
-    let mut providers: Vec<String> = joints
-        .iter()
-        .map(|j| {
-            let p = &j["provenance"];
-            p["name"]
-                .as_str()
-                .or_else(|| p["kind"].as_str())
-                .unwrap_or("unknown")
-                .to_owned()
-        })
-        .collect();
-    providers.sort();
-    providers.dedup();
     let npz_files = std::fs::read_dir(dir.join("npzs")).map_or(0, Iterator::count);
-    Ok(vec![
-        place.to_owned(),
-        asset.to_owned(),
-        job.to_owned(),
-        file.to_owned(),
-        record["object"]["category"]["value"]
-            .as_str()
-            .unwrap_or_default()
-            .to_owned(),
-        record["object"]["mass_kg"]["value"]
-            .as_f64()
-            .map_or_else(String::new, |m| format!("{m:.4}")),
-        record["parts"].as_array().map_or(0, Vec::len).to_string(),
-        joints.len().to_string(),
-        count("revolute").to_string(),
-        count("prismatic").to_string(),
-        count("continuous").to_string(),
-        report["passed"].as_bool().unwrap_or(false).to_string(),
-        providers.join(" "),
-        npz_files.to_string(),
-    ])
+    Ok(layout::index_row(&layout::IndexEntry {
+        place,
+        asset,
+        job,
+        source_file: file,
+        record: &record,
+        report: &report,
+        npz_files,
+    }))
 }
-
-/// Columns of `failures.csv`.
-const FAILURE_COLUMNS: &[&str] = &[
-    "asset_id",
-    "job_id",
-    "source_file",
-    "state",
-    "stage",
-    "error",
-];
 
 /// One row of `failures.csv`: the stage that failed and its last error.
 fn failure_row(
@@ -360,56 +319,8 @@ fn failure_row(
     ])
 }
 
-/// Writes a CSV with a header; fields with commas, quotes or line breaks are quoted.
+/// Writes a CSV table with a header.
 fn write_csv(path: &Path, columns: &[&str], rows: &[Vec<String>]) -> anyhow::Result<()> {
-    let field = |f: &str| {
-        if f.contains([',', '"', '\n', '\r']) {
-            format!("\"{}\"", f.replace('"', "\"\""))
-        } else {
-            f.to_owned()
-        }
-    };
-    let mut text = columns.join(",");
-    text.push('\n');
-    for row in rows {
-        let fields: Vec<String> = row.iter().map(|f| field(f)).collect();
-        text.push_str(&fields.join(","));
-        text.push('\n');
-    }
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn entities_are_named_by_file_and_id_and_typed_by_category() {
-        assert_eq!(
-            entity_name("kitchen-7236.tar.gz", "asset_1"),
-            "kitchen-7236_asset_1"
-        );
-        assert_eq!(entity_name("my chair.glb", "asset_12"), "my_chair_asset_12");
-        assert_eq!(
-            type_name("KitchenDining/KitchenAppliance"),
-            "KitchenAppliance"
-        );
-        assert_eq!(type_name(""), "Unknown");
-    }
-
-    #[test]
-    fn csv_fields_with_commas_and_quotes_are_quoted() {
-        let dir = tempfile::tempdir().expect("tempdir");
-        let path = dir.path().join("x.csv");
-        let rows = vec![vec![
-            "a,b".to_owned(),
-            "say \"hi\"".to_owned(),
-            "plain".to_owned(),
-        ]];
-        write_csv(&path, &["one", "two", "three"], &rows).expect("write");
-        assert_eq!(
-            std::fs::read_to_string(&path).expect("read"),
-            "one,two,three\n\"a,b\",\"say \"\"hi\"\"\",plain\n"
-        );
-    }
+    std::fs::write(path, layout::csv_text(columns, rows))
+        .with_context(|| format!("cannot write {}", path.display()))
 }
