@@ -132,12 +132,7 @@ fn now_ms() -> i64 {
 
 /// Runs the export to its end and records how it ended (the summary object when it finished,
 /// the error in the progress when it failed).
-async fn run(
-    state: Shared,
-    tenant: TenantId,
-    batch: String,
-    progress: Progress,
-) {
+async fn run(state: Shared, tenant: TenantId, batch: String, progress: Progress) {
     let outcome = match export_batch(&state, tenant, &batch, &progress).await {
         Ok(()) => {
             let mut view = lock(&progress).clone();

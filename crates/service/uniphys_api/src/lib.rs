@@ -37,6 +37,8 @@
 //! - `extract.rs`: tenant, JSON, query and path extractors answering in the error format.
 //! - `ids.rs`, `page.rs`, `upload.rs`, `views.rs`: ids in paths, page limits and cursors,
 //!   spooling uploads, answer shapes.
+//! - `backlog_gauge.rs`: each tenant's backlog counted at most once a second plus what this
+//!   process submitted since, so the cap is checked exactly only near it.
 //! - `board.rs`, `ttl_cache.rs`: the dashboard's shared statistics, history sampler, and the
 //!   per-tenant counts and batch statistics cached for a few seconds.
 //! - `dataset_stats.rs`: [`DatasetStats`] of a batch from its `convert` summaries.
@@ -46,6 +48,7 @@
 //!   object store.
 //! - `routes/`: the handlers, one file per resource.
 
+mod backlog_gauge;
 mod board;
 mod config;
 mod connections;

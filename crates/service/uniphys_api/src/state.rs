@@ -5,6 +5,7 @@ use std::sync::Arc;
 use uniphys_queue::QueueStore;
 use uniphys_storage::ArtifactStore;
 
+use crate::backlog_gauge::BacklogGauge;
 use crate::board::Board;
 use crate::dataset_export::ExportRegistry;
 use crate::upload::{STALE_SPOOL, sweep_stale_spool};
@@ -24,6 +25,8 @@ pub struct ApiState {
     pub hooks: Arc<dyn ServiceHooks>,
     /// The dashboard's cached statistics and history.
     pub(crate) board: Arc<Board>,
+    /// Each tenant's backlog as this process knows it (the cap's fast path).
+    pub(crate) backlog: Arc<BacklogGauge>,
     /// The dataset exports this process runs or ran.
     pub(crate) exports: Arc<ExportRegistry>,
 }
@@ -46,6 +49,7 @@ impl ApiState {
             config,
             hooks: Arc::new(NoHooks),
             board: Arc::default(),
+            backlog: Arc::default(),
             exports: Arc::default(),
         }
     }

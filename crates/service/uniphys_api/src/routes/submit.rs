@@ -136,8 +136,12 @@ pub(crate) async fn upload(
 /// Refuses with 429 when `jobs` more jobs would take the tenant's unfinished stage runs over its cap.
 pub(crate) async fn check_backlog(state: &ApiState, tenant: TenantId, jobs: u64) -> ApiResult<()> {
     let cap = state.config.max_backlog_per_tenant;
-    let backlog = state.store.tenant_backlog(tenant).await?;
     let adding = jobs.saturating_mul(state.config.job_spec.stages.len() as u64);
+    let mut backlog = state.backlog.backlog(state, tenant).await?;
+    if backlog.saturating_add(adding) > cap {
+        // The estimate may count runs that have finished since: count again before refusing.
+        backlog = state.backlog.recount(state, tenant).await?;
+    }
     if backlog.saturating_add(adding) > cap {
         return Err(ApiError::Backpressure {
             message: format!(
@@ -172,27 +176,27 @@ pub(crate) async fn store_and_submit(
         source_uri: key,
         size_bytes: spooled.size_bytes,
     };
-    // The cap is checked again inside the submission's transaction: concurrent requests that
-    // all passed `check_backlog` cannot take the tenant over it together.
+    // Far from the cap the estimate lets the submission through; near it the submission's
+    // transaction counts exactly, so concurrent requests cannot take the tenant over together.
+    let cap = state.config.max_backlog_per_tenant;
+    let adding = spec.stages.len() as u64;
+    let admission = state.backlog.admit(state, tenant, adding, cap).await?;
     let submitted = state
         .store
-        .submit_capped(
-            tenant,
-            &asset,
-            &spec,
-            placement.batch,
-            Some(state.config.max_backlog_per_tenant),
-        )
+        .submit_capped(tenant, &asset, &spec, placement.batch, admission.exact_cap)
         .await;
+    drop(admission);
     let submission = match submitted {
         Ok(submission) => submission,
-        Err(e @ QueueError::BacklogFull { .. }) => {
+        Err(QueueError::BacklogFull { backlog, .. }) => {
             // Refused content is new (known content makes no job): its copy goes too.
             if let Err(delete) = state.artifacts.delete(&asset.source_uri).await {
                 tracing::warn!(key = %asset.source_uri, error = %delete, "a refused upload's copy was not removed");
             }
             return Err(ApiError::Backpressure {
-                message: format!("{e}; retry later"),
+                message: format!(
+                    "backlog full: the tenant has {backlog} unfinished stage runs, other submissions are under way, and this one adds {adding} (cap {cap}); retry later"
+                ),
                 retry_after_secs: state.config.backlog_retry_after_secs,
             });
         }

@@ -41,6 +41,7 @@ cases!(
     submit::a_batch_is_validated_whole_before_anything_is_submitted,
     submit::a_partial_batch_submits_the_valid_items_and_refuses_each_bad_one,
     submit::a_full_backlog_answers_429_with_retry_after,
+    submit::concurrent_uploads_never_take_the_tenant_over_its_cap_together,
     archives::an_archived_asset_folder_is_accepted_stored_whole_and_idempotent,
     archives::a_hostile_archive_is_422_with_its_reason_and_stores_nothing,
     archives::a_folder_in_the_store_is_submitted_by_its_prefix,

@@ -201,6 +201,56 @@ pub async fn a_full_backlog_answers_429_with_retry_after(backend: Backend) {
     app.finish().await;
 }
 
+pub async fn concurrent_uploads_never_take_the_tenant_over_its_cap_together(backend: Backend) {
+    // Two stages per job: a cap of 7 admits three jobs. Uploads far from the cap go on the
+    // API's estimate; the ones near it are counted in their transactions.
+    let Some(app) = TestApp::open(backend, |c| c.with_max_backlog_per_tenant(7)).await else {
+        return;
+    };
+    let bodies: Vec<String> = (0..12).map(|i| format!("asset {i}")).collect();
+    let answers = futures::future::join_all(
+        bodies
+            .iter()
+            .enumerate()
+            .map(|(i, body)| app.upload_owned(format!("a{i}.glb"), body.as_bytes().to_vec())),
+    )
+    .await;
+    let created = answers
+        .iter()
+        .filter(|a| a.status == StatusCode::CREATED)
+        .count();
+    assert!(
+        answers
+            .iter()
+            .all(|a| a.status == StatusCode::CREATED || a.status == StatusCode::TOO_MANY_REQUESTS),
+        "every upload is taken or told to wait"
+    );
+    // Never over the cap; a request racing others near it may be told to wait early.
+    assert!((1..=3).contains(&created), "{created} jobs made");
+    assert_eq!(
+        app.store.tenant_backlog(app.tenant).await.expect("backlog"),
+        2 * created as u64
+    );
+    // One at a time, the rest of the room is taken, and no more.
+    let mut made = created;
+    for i in 0..4 {
+        let answer = app
+            .upload(&format!("b{i}.glb"), format!("more {i}").as_bytes())
+            .await;
+        if answer.status == StatusCode::CREATED {
+            made += 1;
+        } else {
+            assert_eq!(answer.status, StatusCode::TOO_MANY_REQUESTS);
+        }
+    }
+    assert_eq!(made, 3);
+    assert_eq!(
+        app.store.tenant_backlog(app.tenant).await.expect("backlog"),
+        6
+    );
+    app.finish().await;
+}
+
 pub async fn a_partial_batch_submits_the_valid_items_and_refuses_each_bad_one(backend: Backend) {
     let Some(app) = TestApp::open(backend, |c| c).await else {
         return;
