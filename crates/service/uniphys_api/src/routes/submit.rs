@@ -195,7 +195,7 @@ pub(crate) async fn store_and_submit(
             }
             return Err(ApiError::Backpressure {
                 message: format!(
-                    "backlog full: the tenant has {backlog} unfinished stage runs, other submissions are under way, and this one adds {adding} (cap {cap}); retry later"
+                    "backlog full: the tenant has {backlog} unfinished stage runs and this upload adds {adding} (cap {cap}, counting the submissions under way); retry later"
                 ),
                 retry_after_secs: state.config.backlog_retry_after_secs,
             });

@@ -274,30 +274,10 @@ pub async fn a_batch_counts_its_converted_assets(backend: Backend) {
     else {
         return;
     };
-    let upload = |name: &'static str, body: &'static [u8], batch: &'static str| {
-        let app = &app;
-        async move {
-            let answer = app
-                .send(
-                    Method::POST,
-                    &format!("/v1/assets?filename={name}&batch={batch}"),
-                    Some(crate::harness::KEY),
-                    &[(header::CONTENT_TYPE.as_str(), "application/octet-stream")],
-                    Body::from(body),
-                )
-                .await;
-            assert_eq!(
-                answer.status,
-                StatusCode::CREATED,
-                "{}",
-                String::from_utf8_lossy(&answer.body)
-            );
-        }
-    };
-    upload("cabinet.glb", b"cabinet", "set-a").await;
-    upload("drawer.glb", b"drawer", "set-a").await;
-    upload("mug.glb", b"mug", "set-b").await;
-    upload("broken.glb", b"broken", "set-a").await;
+    app.upload_into("cabinet.glb", b"cabinet", "set-a").await;
+    app.upload_into("drawer.glb", b"drawer", "set-a").await;
+    app.upload_into("mug.glb", b"mug", "set-b").await;
+    app.upload_into("broken.glb", b"broken", "set-a").await;
     for _ in 0..3 {
         complete(&app, "ingest", json!({})).await;
     }

@@ -104,23 +104,11 @@ pub async fn a_batch_is_exported_into_the_store_and_again_adds_only_what_is_new(
     else {
         return;
     };
-    let upload = |name: &'static str, batch: &'static str| {
-        let app = &app;
-        async move {
-            let answer = app
-                .send(
-                    Method::POST,
-                    &format!("/v1/assets?filename={name}&batch={batch}"),
-                    Some(KEY),
-                    &[(header::CONTENT_TYPE.as_str(), "application/octet-stream")],
-                    Body::from(name.as_bytes().to_vec()),
-                )
-                .await;
-            assert_eq!(answer.status, StatusCode::CREATED);
-            let json = answer.json();
-            let id = |key: &str| json[key].as_str().expect("id").to_owned();
-            (id("asset_id"), id("job_id"))
-        }
+    let app_ref = &app;
+    let upload = move |name: &'static str, batch: &'static str| async move {
+        let json = app_ref.upload_into(name, name.as_bytes(), batch).await;
+        let id = |key: &str| json[key].as_str().expect("id").to_owned();
+        (id("asset_id"), id("job_id"))
     };
     let (cabinet, cabinet_job) = upload("cabinet.glb", "set-a").await;
     let (drawer, _) = upload("drawer.glb", "set-a").await;

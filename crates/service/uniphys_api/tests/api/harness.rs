@@ -224,6 +224,27 @@ impl TestApp {
         .await
     }
 
+    /// Uploads `bytes` as `filename` into `batch` for the main tenant, expecting 201; returns
+    /// the answer's JSON.
+    pub async fn upload_into(&self, filename: &str, bytes: &[u8], batch: &str) -> Value {
+        let answer = self
+            .send(
+                Method::POST,
+                &format!("/v1/assets?filename={filename}&batch={batch}"),
+                Some(KEY),
+                &[("content-type", "application/octet-stream")],
+                Body::from(bytes.to_vec()),
+            )
+            .await;
+        assert_eq!(
+            answer.status,
+            StatusCode::CREATED,
+            "{}",
+            String::from_utf8_lossy(&answer.body)
+        );
+        answer.json()
+    }
+
     /// Uploads `bytes` as `filename` for the main tenant (owned arguments, for concurrent calls).
     pub async fn upload_owned(&self, filename: String, bytes: Vec<u8>) -> Answer {
         self.upload(&filename, &bytes).await
