@@ -58,7 +58,8 @@ pub struct DatasetExportView {
     pub already_there: u64,
     /// Jobs still running: run the export again once they finish.
     pub still_running: u64,
-    /// Dead or cancelled jobs, and succeeded ones without converted files (`failures.csv`).
+    /// Dead or cancelled jobs, and succeeded ones whose files could not be placed or that have
+    /// none (`failures.csv`).
     pub failed: u64,
     /// Why the export stopped, when it failed.
     pub error: Option<String>,
@@ -188,7 +189,18 @@ async fn export_batch(
                 JobState::Running => lock(progress).still_running += 1,
                 JobState::Succeeded => {
                     let detail = state.store.get_job(tenant, job.id).await?;
-                    match export_entity(state, &prefix, &detail, file).await? {
+                    let exported = match export_entity(state, &prefix, &detail, file).await {
+                        // One asset whose files cannot be placed (another export wrote other
+                        // bytes there, or its artifacts are gone) is listed, not fatal.
+                        Err(ApiError::Conflict(why) | ApiError::NotFound(why)) => {
+                            failures.push(failure("succeeded", ENTITY_STAGE, &why));
+                            lock(progress).failed += 1;
+                            lock(progress).jobs_read += 1;
+                            continue;
+                        }
+                        other => other?,
+                    };
+                    match exported {
                         Some((row, copied)) => {
                             rows.push(row);
                             let mut view = lock(progress);
@@ -287,7 +299,8 @@ async fn export_entity(
     let mut copied = false;
     for entry in &files {
         let dest = format!("{prefix}{place}/{}", entry.name);
-        // Copies are create-only and whole, so one of the listed size is this file.
+        // Copies are create-only and whole, and only exports write under `datasets/`, so a file
+        // of the listed size is this one (not read again: a resumed export stays cheap).
         if state.artifacts.head(&dest).await? == Some(entry.bytes) {
             continue;
         }
