@@ -5,8 +5,8 @@
 //!
 //! Every submission's runs are held as in flight until it has finished ([`Admission`]). Far
 //! from the cap, a submission goes on the estimate; near it, its own transaction counts exactly
-//! under the tenant's lock, against the cap less what else this process has in flight. So this process never takes a tenant over its cap, however many of
-//! its requests race. What other API processes accept within [`FRESH`] is not in the estimate:
+//! under the tenant's lock, against the cap less what else this process has in flight. So this
+//! process never takes a tenant over its cap, however many of its requests race. What other API processes accept within [`FRESH`] is not in the estimate:
 //! with several, the cap may be passed by what the others accept in that second.
 
 use std::collections::HashMap;

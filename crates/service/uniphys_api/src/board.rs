@@ -158,7 +158,8 @@ pub(crate) async fn sample_history(state: Weak<ApiState>) {
     }
 }
 
-fn now_ms() -> i64 {
+/// The wall clock, Unix milliseconds.
+pub(crate) fn now_ms() -> i64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))

@@ -12,13 +12,13 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use uniphys_queue::{ArtifactEntry, JobDetail, JobFilter, JobState, TenantId};
 use utoipa::ToSchema;
 
+use crate::board::now_ms;
 use crate::dataset_layout::{
     self as layout, ENTITY_STAGE, FAILURE_COLUMNS, INDEX_COLUMNS, IndexEntry,
 };
@@ -125,12 +125,6 @@ fn lock(progress: &Mutex<DatasetExportView>) -> std::sync::MutexGuard<'_, Datase
     progress.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-fn now_ms() -> i64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
-}
-
 /// Runs the export to its end and records how it ended (the summary object when it finished,
 /// the error in the progress when it failed).
 async fn run(state: Shared, tenant: TenantId, batch: String, progress: Progress) {
@@ -189,19 +183,8 @@ async fn export_batch(
                 JobState::Running => lock(progress).still_running += 1,
                 JobState::Succeeded => {
                     let detail = state.store.get_job(tenant, job.id).await?;
-                    let exported = match export_entity(state, &prefix, &detail, file).await {
-                        // One asset whose files cannot be placed (another export wrote other
-                        // bytes there, or its artifacts are gone) is listed, not fatal.
-                        Err(ApiError::Conflict(why) | ApiError::NotFound(why)) => {
-                            failures.push(failure("succeeded", ENTITY_STAGE, &why));
-                            lock(progress).failed += 1;
-                            lock(progress).jobs_read += 1;
-                            continue;
-                        }
-                        other => other?,
-                    };
-                    match exported {
-                        Some((row, copied)) => {
+                    match export_entity(state, &prefix, &detail, file).await {
+                        Ok(Some((row, copied))) => {
                             rows.push(row);
                             let mut view = lock(progress);
                             if copied {
@@ -210,7 +193,7 @@ async fn export_batch(
                                 view.already_there += 1;
                             }
                         }
-                        None => {
+                        Ok(None) => {
                             failures.push(failure(
                                 "succeeded",
                                 ENTITY_STAGE,
@@ -218,6 +201,13 @@ async fn export_batch(
                             ));
                             lock(progress).failed += 1;
                         }
+                        // One asset whose files cannot be placed (other bytes already there, or
+                        // its artifacts gone) is listed, not fatal.
+                        Err(ApiError::Conflict(why) | ApiError::NotFound(why)) => {
+                            failures.push(failure("succeeded", ENTITY_STAGE, &why));
+                            lock(progress).failed += 1;
+                        }
+                        Err(e) => return Err(e),
                     }
                 }
                 JobState::Dead | JobState::Cancelled => {
@@ -279,6 +269,9 @@ async fn export_entity(
         .filter(|(stage, _)| *stage == ENTITY_STAGE)
         .map(|(_, entry)| entry)
         .collect();
+    if files.is_empty() {
+        return Ok(None);
+    }
     let read_json = |name: &str| {
         let key = files.iter().find(|e| e.name == name).map(|e| e.key.clone());
         async move {
@@ -289,9 +282,6 @@ async fn export_entity(
             Ok::<Value, ApiError>(serde_json::from_slice(&bytes).unwrap_or(Value::Null))
         }
     };
-    if files.is_empty() {
-        return Ok(None);
-    }
     let object = read_json("annotations/object.json").await?;
     let kind = layout::type_name(object["category"].as_str().unwrap_or_default());
     let (asset, job_id) = (job.asset_id.to_string(), job.id.to_string());

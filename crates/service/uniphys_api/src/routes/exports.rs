@@ -4,6 +4,7 @@
 use axum::Json;
 use axum::extract::State;
 use axum::http::StatusCode;
+use uniphys_storage::StorageError;
 
 use crate::dataset_export::{DatasetExportView, ExportRegistry, dataset_prefix, summary_key};
 use crate::error::{ApiError, ApiResult, ErrorBody};
@@ -79,10 +80,10 @@ pub(crate) async fn status(
             "batch {batch:?} has not been exported; POST /v1/batches/{batch}/export starts it"
         ))
     };
-    if state.artifacts.head(&key).await?.is_none() {
-        return Err(never());
-    }
-    let bytes = state.artifacts.get(&key).await?;
+    let bytes = match state.artifacts.get(&key).await {
+        Err(StorageError::NotFound { .. }) => return Err(never()),
+        read => read?,
+    };
     let view = serde_json::from_slice(&bytes).map_err(|e| {
         ApiError::Unavailable(format!("the export summary {key} cannot be read: {e}"))
     })?;

@@ -245,11 +245,6 @@ impl TestApp {
         answer.json()
     }
 
-    /// Uploads `bytes` as `filename` for the main tenant (owned arguments, for concurrent calls).
-    pub async fn upload_owned(&self, filename: String, bytes: Vec<u8>) -> Answer {
-        self.upload(&filename, &bytes).await
-    }
-
     /// Uploads `bytes` and returns `(asset_id, job_id)`, expecting 201.
     pub async fn submitted(&self, filename: &str, bytes: &[u8]) -> (String, String) {
         let answer = self.upload(filename, bytes).await;

@@ -208,13 +208,12 @@ pub async fn concurrent_uploads_never_take_the_tenant_over_its_cap_together(back
         return;
     };
     let bodies: Vec<String> = (0..12).map(|i| format!("asset {i}")).collect();
-    let answers = futures::future::join_all(
-        bodies
-            .iter()
-            .enumerate()
-            .map(|(i, body)| app.upload_owned(format!("a{i}.glb"), body.as_bytes().to_vec())),
-    )
-    .await;
+    let app_ref = &app;
+    let answers =
+        futures::future::join_all(bodies.iter().enumerate().map(|(i, body)| async move {
+            app_ref.upload(&format!("a{i}.glb"), body.as_bytes()).await
+        }))
+        .await;
     let created = answers
         .iter()
         .filter(|a| a.status == StatusCode::CREATED)
