@@ -78,9 +78,11 @@ def start_server(binary: str, data_dir: Path, port: int) -> subprocess.Popen:
     return server
 
 
-def seed(port: int, key: str, assets: int, threads: int = 4) -> float:
-    """Uploads `assets` distinct small files; returns the uploads per second."""
-    counter = iter(range(assets))
+def seed(port: int, key: str, assets: int, threads: int = 4, first: int = 0,
+         batch_of=lambda i: "load" if i % 2 == 0 else None) -> float:
+    """Uploads `assets` distinct small files (numbered from `first`, upload i into the batch
+    `batch_of(i)` names, if any); returns the uploads per second."""
+    counter = iter(range(first, first + assets))
     lock = threading.Lock()
     failures: list[str] = []
 
@@ -92,7 +94,8 @@ def seed(port: int, key: str, assets: int, threads: int = 4) -> float:
             if i is None or failures:
                 break
             body = f"asset {i}\n".encode()
-            batch = "&batch=load" if i % 2 == 0 else ""
+            label = batch_of(i)
+            batch = f"&batch={label}" if label else ""
             conn.request(
                 "POST",
                 f"/v1/assets?filename=a{i}.obj{batch}",

@@ -39,11 +39,12 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 import urllib.parse
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from load_test import free_port, seed  # bench/ is the script's folder, first on sys.path
 
 ENTITY_FILES = [
     "model.urdf", "model.xml", "record.json", "report.json", "meta_data.json",
@@ -61,12 +62,6 @@ DASHBOARD = [
 
 def log(message: str) -> None:
     print(f"[{time.strftime('%H:%M:%S')}] {message}", file=sys.stderr, flush=True)
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def wait_port(port: int, what: str, process: subprocess.Popen | None = None, timeout: float = 60) -> None:
@@ -352,35 +347,6 @@ def real_run(binary: str, folders: list[Path], deployment: Deployment, workers: 
                    baseline_secs)
 
 
-def noop_upload(port: int, key: str, batch: str, start: int, count: int, threads: int = 4) -> float:
-    """Uploads `count` distinct small files into `batch`; returns the seconds taken."""
-    numbers = iter(range(start, start + count))
-    lock = threading.Lock()
-    failures: list[str] = []
-
-    def loop() -> None:
-        api = Api(port, key)
-        while True:
-            with lock:
-                i = next(numbers, None)
-            if i is None or failures:
-                return
-            status, body = api.request("POST", f"/v1/assets?filename=noop{i}.obj&batch={batch}",
-                                       f"noop asset {i}\n".encode())
-            if status not in (200, 201):
-                failures.append(f"upload {i}: {status} {body[:200]!r}")
-
-    started = time.monotonic()
-    pool = [threading.Thread(target=loop) for _ in range(threads)]
-    for t in pool:
-        t.start()
-    for t in pool:
-        t.join()
-    if failures:
-        raise SystemExit(failures[0])
-    return time.monotonic() - started
-
-
 def dashboard_p50_ms(api: Api, batch: str, repeats: int = 20) -> dict[str, float]:
     result = {}
     for template in DASHBOARD:
@@ -414,7 +380,8 @@ def noop_batch(binary: str, deployment: Deployment, batch: str, start: int, jobs
         subprocess.run([binary, "stage", "pause", stage], env=deployment.env, check=True,
                        stdout=subprocess.DEVNULL)
     log(f"no-op: submitting {jobs} jobs into {batch}")
-    submit_secs = noop_upload(deployment.port, deployment.key, batch, start, jobs)
+    submit_secs = jobs / seed(deployment.port, deployment.key, jobs, first=start,
+                              batch_of=lambda _: batch)
     queued_ms = dashboard_p50_ms(api, batch)
     started = time.monotonic()
     for stage in ("ingest", "decompose", "convert"):
