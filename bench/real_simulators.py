@@ -3,8 +3,9 @@ its true joints, through `uniphys run`; then, in MuJoCo, the MJCF at rest for 2 
 joint set to each of its limits and held there for 0.5 s (it must stay within 5 % of its range),
 the colliders of different bodies that overlap at rest (contacts deeper than 1 mm that the export
 does not exclude), and for each joint the share of its child's colliders that its parent's also
-fill (a carcass collider that fills its drawer's cavity leaves a gripper no room); in PyBullet,
-the URDF at rest for 2 s and each joint set to each limit, motor off, for 0.5 s.
+fill (a carcass collider that fills its drawer's cavity leaves a gripper no room); the URDF
+through MuJoCo's importer, at rest for 2 s; in PyBullet, the URDF at rest for 2 s and each joint
+set to each limit, motor off, for 0.5 s.
 
 Prints one row per object and a summary. Usage:
   .venv/bin/python bench/real_simulators.py [--data ../shared/data/partnet-mobility] [--only NAME ...]
@@ -94,10 +95,14 @@ def _body_hulls(model, data, body):
     return hulls
 
 
-def cavity_filled(model, data, rng=np.random.default_rng(0)):
+def cavity_filled(model, data):
     """For each movable joint: the share of its child's collider volume that its parent's
     colliders also fill at rest (a carcass drawn as one block where the drawer sits)."""
     from scipy.spatial import Delaunay
+
+    # Each object its own generator: one shared by the two worker threads made the samples,
+    # and so the shares, depend on the order the objects finished in.
+    rng = np.random.default_rng(0)
 
     shares = {}
     for j in range(model.njnt):
@@ -123,6 +128,15 @@ def cavity_filled(model, data, rng=np.random.default_rng(0)):
             covered |= h.find_simplex(samples) >= 0
         shares[mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or str(j)] = float(covered.mean())
     return shares
+
+
+def mujoco_urdf_rests(urdf):
+    """MuJoCo's URDF importer: the model loads and rests 2 s without an explosion."""
+    model = mujoco.MjModel.from_xml_path(str(urdf))
+    data = mujoco.MjData(model)
+    for _ in range(int(REST_SECS / model.opt.timestep)):
+        mujoco.mj_step(model, data)
+    return bool(np.all(np.isfinite(data.qvel)) and (model.nv == 0 or np.abs(data.qvel).max() < MAX_SPEED))
 
 
 def pybullet_checks(urdf):
@@ -174,6 +188,10 @@ def one(binary, source, work, extra):
     except Exception as error:  # a load failure is a result, reported in the row
         row["mj_error"] = str(error).splitlines()[0]
     try:
+        row["mj_urdf_rest"] = mujoco_urdf_rests(out / "model.urdf")
+    except Exception as error:
+        row["mj_urdf_error"] = str(error).splitlines()[0]
+    try:
         row["pb_rest"], row["pb_held"], row["pb_failed"] = pybullet_checks(out / "model.urdf")
     except Exception as error:
         row["pb_error"] = str(error).splitlines()[0]
@@ -199,8 +217,8 @@ def main():
     work = Path(tempfile.mkdtemp(prefix="uniphys-realsim-"))
     rows = []
     print(f"{len(sources)} objects, outputs in {work}", flush=True)
-    print("| object | exit | s | MuJoCo rest | MuJoCo joints held at limits | overlapping at rest | joints whose parent's colliders fill over half their child | PyBullet rest | PyBullet joints held at limits |")
-    print("|---|---:|---:|---|---|---|---|---|---|")
+    print("| object | exit | s | MuJoCo rest | MuJoCo joints held at limits | overlapping at rest | joints whose parent's colliders fill over half their child | MuJoCo URDF import rest | PyBullet rest | PyBullet joints held at limits |")
+    print("|---|---:|---:|---|---|---|---|---|---|---|")
     with ThreadPoolExecutor(max_workers=2) as pool:
         for row in pool.map(lambda s: one(binary, s, work, extra), sources):
             rows.append(row)
@@ -212,6 +230,7 @@ def main():
                   f"{held - len(failed)}/{held} {' '.join(failed)} | "
                   f"{len(row.get('overlaps', []))} {' '.join('+'.join(o) for o in row.get('overlaps', [])[:4])} | "
                   f"{len(filled)} {' '.join(filled[:6])} | "
+                  f"{row.get('mj_urdf_rest', row.get('mj_urdf_error', '-'))} | "
                   f"{row.get('pb_rest', row.get('pb_error', '-'))} | "
                   f"{pb_held - len(pb_failed)}/{pb_held} {' '.join(pb_failed)} |", flush=True)
     exported = [r for r in rows if r["exit"] in (0, 1)]
@@ -223,6 +242,7 @@ def main():
     print(f"| run | {len(rows)} |")
     print(f"| exported (exit 0 or 1) | {len(exported)} |")
     print(f"| MuJoCo loads and rests 2 s | {sum(1 for r in exported if r.get('mj_rest'))} |")
+    print(f"| MuJoCo loads the URDF and it rests 2 s | {sum(1 for r in exported if r.get('mj_urdf_rest'))} |")
     print(f"| PyBullet loads and rests 2 s | {sum(1 for r in exported if r.get('pb_rest'))} |")
     print(f"| a joint leaves its range by over 5 % when held at a limit | {len(limit_fail)} ({100 * len(limit_fail) / max(len(exported), 1):.1f} %) |")
     print(f"| joints x limits held | {sum(r.get('held', 0) - len(r.get('failed', [])) for r in exported)} of {sum(r.get('held', 0) for r in exported)} |")
