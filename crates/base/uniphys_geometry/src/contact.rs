@@ -122,22 +122,45 @@ pub fn contact_region(
 }
 
 /// Approximate minimum distance between two meshes, metres: the smallest distance between
-/// their point sets (all vertices plus 1000 surface samples each, seed 0). It is never below
-/// the true surface distance and exceeds it by at most about the sample spacing; meshes that
-/// share a vertex position give 0. Infinite if either mesh has no vertices.
+/// their point sets (all vertices plus 1000 surface samples each, seed 0 for `a` and 1 for `b`).
+/// It is never below the true surface distance and exceeds it by at most about the sample
+/// spacing; meshes that share a vertex position give 0. Infinite if either mesh has no
+/// vertices. For many pairs of the same meshes, [`DistanceProbe`] builds each mesh's points once.
 #[must_use]
 pub fn min_distance_m(a: &TriMesh, b: &TriMesh) -> f64 {
-    let samples = ContactParams::default().samples_per_mesh;
-    let a_points = point_set(a, samples, 0);
-    let b_points = point_set(b, samples, 1);
-    if a_points.is_empty() {
-        return f64::INFINITY;
+    DistanceProbe::new(a).min_distance_m(&DistanceProbe::new(b))
+}
+
+/// One mesh prepared for [`min_distance_m`] against many others: its point set with seed 0 in
+/// a kd-tree (the mesh as `a`) and with seed 1 as query points (the mesh as `b`).
+pub struct DistanceProbe {
+    tree: KdTree,
+    queries: Vec<DVec3>,
+}
+
+impl DistanceProbe {
+    /// Samples `mesh` as [`min_distance_m`] does.
+    #[must_use]
+    pub fn new(mesh: &TriMesh) -> Self {
+        let samples = ContactParams::default().samples_per_mesh;
+        Self {
+            tree: KdTree::new(point_set(mesh, samples, 0)),
+            queries: point_set(mesh, samples, 1),
+        }
     }
-    let tree = KdTree::new(a_points);
-    b_points
-        .iter()
-        .map(|&q| tree.nearest_distance(q))
-        .fold(f64::INFINITY, f64::min)
+
+    /// [`min_distance_m`] of this mesh (as `a`) and `other` (as `b`). Exact over the point sets;
+    /// each query only looks closer than the best distance so far, so points of `other` far
+    /// from this mesh cost a box test.
+    #[must_use]
+    pub fn min_distance_m(&self, other: &Self) -> f64 {
+        if self.tree.is_empty() {
+            return f64::INFINITY;
+        }
+        other.queries.iter().fold(f64::INFINITY, |best, &q| {
+            self.tree.nearest_distance_within(q, best).unwrap_or(best)
+        })
+    }
 }
 
 /// All vertices of `mesh`, then `samples` surface samples.
@@ -154,6 +177,24 @@ mod tests {
 
     fn slab(z0: f64, z1: f64) -> TriMesh {
         unit_box(DVec3::new(0.0, 0.0, z0), DVec3::new(1.0, 1.0, z1))
+    }
+
+    #[test]
+    fn the_probe_finds_the_least_distance_of_every_pair_of_points() {
+        let (a, b) = (
+            slab(0.0, 1.0),
+            unit_box(DVec3::new(1.3, 0.2, 1.6), DVec3::new(2.0, 0.9, 2.5)),
+        );
+        let (a_points, b_points) = (point_set(&a, 1000, 0), point_set(&b, 1000, 1));
+        let brute = a_points
+            .iter()
+            .flat_map(|p| b_points.iter().map(move |q| p.distance(*q)))
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(min_distance_m(&a, &b), brute);
+        assert_eq!(
+            DistanceProbe::new(&a).min_distance_m(&DistanceProbe::new(&b)),
+            brute
+        );
     }
 
     #[test]

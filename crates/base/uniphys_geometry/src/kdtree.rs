@@ -1,5 +1,7 @@
 use glam::DVec3;
 
+use crate::Aabb;
+
 /// Ranges at most this long are scanned linearly.
 const LEAF_SIZE: usize = 8;
 
@@ -11,6 +13,7 @@ const LEAF_SIZE: usize = 8;
 pub struct KdTree {
     points: Vec<DVec3>,
     axes: Vec<u8>,
+    bounds: Aabb,
 }
 
 impl KdTree {
@@ -19,7 +22,18 @@ impl KdTree {
     pub fn new(mut points: Vec<DVec3>) -> Self {
         let mut axes = vec![0u8; points.len()];
         build(&mut points, &mut axes);
-        Self { points, axes }
+        let bounds = Aabb::from_points(&points);
+        Self {
+            points,
+            axes,
+            bounds,
+        }
+    }
+
+    /// The box around the tree's points ([`Aabb::EMPTY`] for an empty tree).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
     }
 
     /// Number of points in the tree.
@@ -40,6 +54,28 @@ impl KdTree {
         let mut best = f64::INFINITY;
         self.search(q, 0, self.points.len(), &mut best);
         best.sqrt()
+    }
+
+    /// Distance from `q` to the nearest point when it is at most `max_m`, else `None`: the same
+    /// distance [`Self::nearest_distance`] gives, found without visiting the parts of the tree
+    /// farther than `max_m` (a query far from every point costs one box test).
+    #[must_use]
+    pub fn nearest_distance_within(&self, q: DVec3, max_m: f64) -> Option<f64> {
+        if self.points.is_empty() || max_m.is_nan() || max_m < 0.0 {
+            return None;
+        }
+        // A bound a hair above the reach, so that rounding never drops a point at max_m.
+        let bound_sq = max_m * max_m * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+        let outside = (self.bounds.min - q)
+            .max(q - self.bounds.max)
+            .max(DVec3::ZERO);
+        if outside.length_squared() > bound_sq {
+            return None;
+        }
+        let mut best = bound_sq;
+        self.search(q, 0, self.points.len(), &mut best);
+        let distance = best.sqrt();
+        (distance <= max_m).then_some(distance)
     }
 
     fn search(&self, q: DVec3, lo: usize, hi: usize, best: &mut f64) {
@@ -112,6 +148,27 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert_eq!(tree.nearest_distance(q), brute);
         }
+    }
+
+    #[test]
+    fn bounded_queries_agree_with_the_unbounded_one_within_their_reach() {
+        let mut rng = SplitMix64::new(12);
+        let mut random = || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+        let tree = KdTree::new((0..400).map(|_| random()).collect());
+        for _ in 0..300 {
+            let q = random() * 2.0 - DVec3::splat(0.5);
+            let exact = tree.nearest_distance(q);
+            for reach in [0.0, 0.01, 0.05, 0.2, 1.0] {
+                let expected = (exact <= reach).then_some(exact);
+                assert_eq!(tree.nearest_distance_within(q, reach), expected);
+            }
+            // A point exactly at the reach is within it.
+            assert_eq!(tree.nearest_distance_within(q, exact), Some(exact));
+        }
+        assert_eq!(
+            KdTree::new(Vec::new()).nearest_distance_within(DVec3::ZERO, 1.0),
+            None
+        );
     }
 
     #[test]

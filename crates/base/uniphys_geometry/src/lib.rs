@@ -1,6 +1,6 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
 //! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions
-//! between parts, plane fitting, convex outlines in a plane, k-means, optimal one-to-one assignment, convex decomposition,
+//! between parts, plane fitting, convex outlines in a plane, k-means, a parallel map over independent work, optimal one-to-one assignment, convex decomposition,
 //! and the sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
 //! a given seed.
 //!
@@ -26,6 +26,7 @@ mod mesh;
 mod mesh_asset;
 mod orientation;
 mod outline;
+mod parallel;
 mod plane;
 mod rng;
 mod sampling;
@@ -42,8 +43,8 @@ pub use assignment::{assignment_cost, min_cost_assignment};
 pub use carve::{OrientedBox, carve_out};
 pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;
-pub use contact::{ContactParams, ContactRegion, contact_region, min_distance_m};
-pub use convex::{ConvexParams, convex_decomposition};
+pub use contact::{ContactParams, ContactRegion, DistanceProbe, contact_region, min_distance_m};
+pub use convex::{ConvexParams, MIN_VHACD_RESOLUTION, convex_decomposition};
 pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
 pub use exposure::{ExposureProbe, sphere_directions};
@@ -57,6 +58,7 @@ pub use mesh::TriMesh;
 pub use mesh_asset::{MeshAsset, MeshPart, SurfaceMaterial, Texture};
 pub use orientation::{box_axes, principal_axes, projection_range};
 pub use outline::{convex_outline, outline_area};
+pub use parallel::parallel_map;
 pub use plane::{Plane, fit_plane, fit_plane_ransac};
 pub use rng::SplitMix64;
 pub use sampling::{SurfaceSamples, sample_points, sample_surface};

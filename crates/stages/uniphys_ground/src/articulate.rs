@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use uniphys_geometry::{Aabb, ContactParams, DVec3, TriMesh, contact_region, min_distance_m};
+use uniphys_geometry::{Aabb, ContactParams, DVec3, DistanceProbe, TriMesh, contact_region};
 use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
 
 use uniphys_verify::Scene;
@@ -280,10 +280,11 @@ fn heuristic_joints(parts: &[PartInput<'_>]) -> (PartId, Vec<Joint>, Vec<String>
 /// The smallest distance between every two parts' meshes, metres (`distance[i][j]`).
 pub(crate) fn pairwise_distances(parts: &[PartInput<'_>]) -> Vec<Vec<f64>> {
     let n = parts.len();
+    let probes: Vec<DistanceProbe> = parts.iter().map(|p| DistanceProbe::new(p.mesh)).collect();
     let mut distance = vec![vec![0.0; n]; n];
     for i in 0..n {
         for j in (i + 1)..n {
-            let d = min_distance_m(parts[i].mesh, parts[j].mesh);
+            let d = probes[i].min_distance_m(&probes[j]);
             distance[i][j] = d;
             distance[j][i] = d;
         }

@@ -21,9 +21,9 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use uniphys_geometry::{DQuat, DVec3, projection_range};
+use uniphys_geometry::{DQuat, DVec3, parallel_map, projection_range};
 use uniphys_types::{Joint, JointLimits};
-use uniphys_verify::{Scene, SweepParams, parallel_map, sweep};
+use uniphys_verify::{Scene, SweepParams, sweep};
 
 use crate::hypotheses::mean;
 use crate::motion_search::{Mover, PartBox};

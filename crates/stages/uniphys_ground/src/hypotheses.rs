@@ -2,11 +2,11 @@
 //! (candidate axes x candidate pivots x direction), sweep each one, keep the best by the
 //! sweep's penalties plus simple priors.
 
-use uniphys_geometry::{DVec3, box_axes, projection_range};
+use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range};
 use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{
     ArticulationCandidates, PatchParams, Scene, SweepMetrics, SweepParams, articulation_candidates,
-    parallel_map, sweep,
+    sweep,
 };
 
 use crate::articulate::builtin_joint;

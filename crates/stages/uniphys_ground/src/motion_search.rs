@@ -36,10 +36,10 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use uniphys_geometry::{Aabb, DVec3, projection_range};
+use uniphys_geometry::{Aabb, DVec3, parallel_map, projection_range};
 use uniphys_types::{Joint, JointKind};
 pub(crate) use uniphys_verify::PartBox;
-use uniphys_verify::{Scene, SweepMetrics, SweepParams, parallel_map, sweep};
+use uniphys_verify::{Scene, SweepMetrics, SweepParams, sweep};
 
 use crate::articulate::builtin_joint;
 use crate::hinge_range::hinge_range;

@@ -14,8 +14,8 @@ use uniphys_decompose::{
 };
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
-    ConvexParams, DMat4, DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod, WallSamples,
-    convex_decomposition, min_distance_m, solid_mass_properties,
+    ConvexParams, DMat4, DVec3, DistanceProbe, MassProperties, MeshAsset, TriMesh, VolumeMethod,
+    WallSamples, convex_decomposition, solid_mass_properties,
 };
 use uniphys_ground::{
     MAX_WALL_FACTOR, ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part,
@@ -45,8 +45,13 @@ pub struct RunOptions {
     pub ingest: IngestOptions,
     /// Voxels along the longest side of a part for the volume of open meshes (reference: 128).
     pub voxel_resolution: usize,
-    /// Convex decomposition parameters for the colliders.
+    /// Convex decomposition parameters for the colliders; their smallest voxel is set from
+    /// `collider_voxel_fraction`.
     pub convex: ConvexParams,
+    /// Smallest voxel of the colliders' decomposition, as a fraction of the object's diagonal:
+    /// small parts are decomposed at the precision of large ones, not finer (0: every piece at
+    /// the full resolution of `convex`).
+    pub collider_voxel_fraction: f64,
     /// Parts closer than this fraction of the object diagonal count as touching (MJCF excludes).
     pub touching_fraction: f64,
     /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
@@ -79,6 +84,7 @@ impl Default for RunOptions {
             ingest: IngestOptions::default(),
             voxel_resolution: 128,
             convex: ConvexParams::default(),
+            collider_voxel_fraction: 0.005,
             touching_fraction: 0.005,
             learned: None,
             lvlm: None,
@@ -284,8 +290,12 @@ pub fn run(
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
         let done = AtomicUsize::new(0);
+        let convex = ConvexParams {
+            voxel_size_min_m: options.collider_voxel_fraction * asset.bounds().diagonal(),
+            ..options.convex
+        };
         let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |_, part| {
-            let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
+            let hulls = convex_decomposition(&part.mesh, &convex).map_err(|source| {
                 PipelineError::Geometry {
                     part: part.name.clone(),
                     source,
@@ -522,8 +532,9 @@ fn touching_pairs(asset: &MeshAsset, fraction: f64) -> Vec<(PartId, PartId)> {
     let pairs: Vec<(usize, usize)> = (0..n)
         .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
         .collect();
+    let probes = par_map(&asset.parts, |_, part| DistanceProbe::new(&part.mesh));
     let close = par_map(&pairs, |_, &(i, j)| {
-        min_distance_m(&asset.parts[i].mesh, &asset.parts[j].mesh) <= threshold
+        probes[i].min_distance_m(&probes[j]) <= threshold
     });
     let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
     pairs

@@ -89,7 +89,7 @@ impl ContactReference {
                     .tube
                     .iter()
                     .copied()
-                    .filter(|p| moved.nearest_distance(*p) <= h.threshold_m)
+                    .filter(|p| moved.nearest_distance_within(*p, h.threshold_m).is_some())
                     .collect();
                 whole.max(covered_either_way(
                     &h.at_rest,
@@ -155,7 +155,7 @@ fn covered_either_way(at_rest: &[DVec3], tree: &KdTree, now: &[DVec3], radius_m:
     }
     let covered = |of: &[DVec3], by: &KdTree| {
         of.iter()
-            .filter(|p| by.nearest_distance(**p) <= radius_m)
+            .filter(|p| by.nearest_distance_within(**p, radius_m).is_some())
             .count() as f64
             / of.len() as f64
     };

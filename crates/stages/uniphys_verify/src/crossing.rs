@@ -284,8 +284,10 @@ impl Crossings {
                         entries.remove(back);
                         continue;
                     }
-                    entry.in_rest_space =
-                        self.occupancy.nearest_distance(entry.point) <= self.occupancy_radius_m;
+                    entry.in_rest_space = self
+                        .occupancy
+                        .nearest_distance_within(entry.point, self.occupancy_radius_m)
+                        .is_some();
                     if entries.len() == MAX_ENTRIES {
                         entries.remove(0);
                     }

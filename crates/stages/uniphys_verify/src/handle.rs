@@ -185,7 +185,7 @@ pub(crate) fn handle_reach_fraction(
     let parent = KdTree::new(parent.to_vec());
     if standing
         .iter()
-        .any(|p| parent.nearest_distance(*p) <= touch_m)
+        .any(|p| parent.nearest_distance_within(*p, touch_m).is_some())
     {
         return None;
     }

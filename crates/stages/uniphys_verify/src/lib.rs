@@ -46,9 +46,7 @@ mod slot;
 mod sweep;
 mod verdict;
 
-pub use articulation::{
-    ArticulationOutcome, JointVerdict, parallel_map, verify_articulation, verify_joint,
-};
+pub use articulation::{ArticulationOutcome, JointVerdict, verify_articulation, verify_joint};
 pub use candidates::{
     AXIS_CANDIDATES, ArticulationCandidates, PIVOT_CANDIDATES, articulation_candidates,
     band_pivots, edge_pivots,

@@ -58,10 +58,16 @@ pub fn grow_patch(
     max_increments: usize,
     min_points: usize,
 ) -> Option<(Vec<DVec3>, f64)> {
-    // Distances once, then thresholds are cheap.
+    // Distances once, then thresholds are cheap; a point beyond the last threshold is in no
+    // patch, so its distance is not looked for.
+    let reach_m = start_m + step_m * max_increments as f64;
     let distances: Vec<f64> = static_points
         .iter()
-        .map(|p| moving.nearest_distance(*p))
+        .map(|p| {
+            moving
+                .nearest_distance_within(*p, reach_m)
+                .unwrap_or(f64::INFINITY)
+        })
         .collect();
     for k in 0..=max_increments {
         let threshold = start_m + step_m * k as f64;

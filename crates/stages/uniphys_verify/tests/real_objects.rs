@@ -4,10 +4,10 @@
 //! and put back. `scripts/bench` (verify-bench) measures the whole set.
 
 use uniphys_examples::shared_partnet_object;
-use uniphys_geometry::{Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition};
+use uniphys_geometry::{Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition, parallel_map};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
-use uniphys_verify::{JointVerdict, Scene, SweepParams, parallel_map, verify_joint};
+use uniphys_verify::{JointVerdict, Scene, SweepParams, verify_joint};
 
 struct Object {
     scene: Scene,

@@ -4,13 +4,15 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use uniphys_geometry::{ConvexParams, DVec3, TriMesh, box_axes, convex_decomposition};
+use uniphys_geometry::{
+    ConvexParams, DVec3, TriMesh, box_axes, convex_decomposition, parallel_map,
+};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
     JointVerdict, PatchParams, Scene, SweepParams, articulation_candidates, band_pivots,
-    edge_pivots, held_pivots, moving_group, parallel_map, rounded_end_pivots, verify_joint,
+    edge_pivots, held_pivots, moving_group, rounded_end_pivots, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
