@@ -14,7 +14,7 @@
 //! that nearly passed only has its range changed; a failure late in the range is cut before
 //! the range is reversed.
 
-use uniphys_geometry::{DVec3, box_axes, projection_range, symmetric_eigen};
+use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
@@ -93,18 +93,26 @@ pub(crate) fn correct_failed(
     let mut chosen: Option<Correction> = None;
     for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
         // (preference on the screen, misfit, variant)
+        // Sweeps are independent: each list runs on all cores, and is read in order.
+        let screens = parallel_map(&tier, |variant| {
+            sweep(scene, &variant.joint, moving, &screen)
+        });
         let mut screened: Vec<((i64, f64), f64, usize)> = Vec::new();
-        for (k, variant) in tier.iter().enumerate() {
-            let m = sweep(scene, &variant.joint, moving, &screen)?;
+        for (k, (variant, m)) in tier.iter().zip(screens).enumerate() {
+            let m = m?;
             if m.failures(&screen).is_empty() {
                 let f = fit(&m, &variant.joint);
                 screened.push((preference(f, m.severity(&screen)), f, k));
             }
         }
         screened.sort_by(|a, b| compare(a.0, b.0).then(a.2.cmp(&b.2)));
+        screened.truncate(FULL_SWEEPS_PER_TIER);
+        let full = parallel_map(&screened, |&(_, _, k)| {
+            sweep(scene, &tier[k].joint, moving, params)
+        });
         let mut best: Option<((i64, f64), f64, usize, SweepMetrics)> = None;
-        for &(_, f, k) in screened.iter().take(FULL_SWEEPS_PER_TIER) {
-            let m = sweep(scene, &tier[k].joint, moving, params)?;
+        for (&(_, f, k), m) in screened.iter().zip(full) {
+            let m = m?;
             if !m.failures(params).is_empty() {
                 continue;
             }

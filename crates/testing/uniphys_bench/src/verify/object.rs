@@ -12,7 +12,7 @@ use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
 use uniphys_uniphysgen::CoordinateFrame;
 use uniphys_verify::{
     JointVerdict, PatchParams, Scene, SweepParams, articulation_candidates, band_pivots,
-    edge_pivots, held_pivots, moving_group, rounded_end_pivots, verify_joint,
+    edge_pivots, held_pivots, moving_group, rounded_end_pivots, sweep, verify_joint,
 };
 
 use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
@@ -52,6 +52,8 @@ pub(crate) struct JointResult {
     /// Rotating joints: distance of the nearest pivot candidate to the true axis line, [0,2]
     /// frame; `None` without candidates.
     pub(crate) nearest_pivot_model: Option<f64>,
+    /// Time of one 200-step sweep of the true joint alone on one thread, ms.
+    pub(crate) sweep_ms: f64,
     pub(crate) breakages: Vec<BreakResult>,
 }
 
@@ -104,8 +106,16 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
     let verdicts = parallel_map(&movable, |&i| {
         verify_joint(&scene, &truth, i, &params, true)
     });
+    // One sweep of each true joint, timed alone (the verdicts above ran several at once).
+    let mut sweep_ms = Vec::new();
+    for &i in &movable {
+        let moving = moving_group(&truth, truth[i].child);
+        let started = Instant::now();
+        sweep(&scene, &truth[i], &moving, &params)?;
+        sweep_ms.push(started.elapsed().as_secs_f64() * 1e3);
+    }
     let mut joints = Vec::new();
-    for (&i, verdict) in movable.iter().zip(verdicts) {
+    for ((&i, verdict), sweep_ms) in movable.iter().zip(verdicts).zip(sweep_ms) {
         let verdict = verdict?;
         let joint = &truth[i];
         let child = joint.child.0 as usize;
@@ -160,6 +170,7 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
             message: verdict.message,
             corrected_wrong,
             nearest_pivot_model,
+            sweep_ms,
             breakages: results,
         });
     }

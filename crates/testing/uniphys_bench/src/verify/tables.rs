@@ -5,12 +5,15 @@ use std::fmt::Write as _;
 
 use serde_json::json;
 use uniphys_types::{CheckOutcome, Joint, JointKind};
+use uniphys_verify::SweepParams;
 
 use crate::breakage::Breakage;
 use crate::object::{JointResult, ObjectResult};
 
 /// Pivot candidate distance a rotating joint's nearest candidate should be within, [0,2] frame.
 const PIVOT_TARGET_MODEL: f64 = 0.02;
+/// Time one sweep of a joint should stay under, ms (issue 18).
+const SWEEP_TARGET_MS: f64 = 50.0;
 
 type Results = [(String, anyhow::Result<ObjectResult>)];
 
@@ -218,11 +221,28 @@ fn time_line(results: &Results) -> String {
         return String::new();
     }
     times.sort_by(f64::total_cmp);
-    format!(
+    let mut sweeps: Vec<f64> = joints(results).map(|(_, _, j)| j.sweep_ms).collect();
+    sweeps.sort_by(f64::total_cmp);
+    let at = |q: f64| sweeps[((sweeps.len() - 1) as f64 * q).round() as usize];
+    let mut out = format!(
         "Time per object (ingest, colliders, every sweep and correction): median {:.1} s, max {:.1} s\n",
         times[times.len() / 2],
         times[times.len() - 1]
-    )
+    );
+    if !sweeps.is_empty() {
+        let _ = writeln!(
+            out,
+            "One {}-step sweep per true joint, alone on one thread: median {:.1} ms, p90 {:.1} ms, \
+             max {:.1} ms; {} of {} over {SWEEP_TARGET_MS} ms",
+            SweepParams::default().steps,
+            at(0.5),
+            at(0.9),
+            at(1.0),
+            sweeps.iter().filter(|&&ms| ms > SWEEP_TARGET_MS).count(),
+            sweeps.len()
+        );
+    }
+    out
 }
 
 /// A joint's motion for the JSON: kind, axis, pivot and limits in the object frame.
@@ -250,6 +270,7 @@ pub(crate) fn json(results: &Results) -> serde_json::Value {
                 "message": j.message,
                 "metrics": j.metrics,
                 "nearest_pivot_model": j.nearest_pivot_model,
+                "sweep_ms": j.sweep_ms,
                 "truth": motion(&j.truth),
                 "breakages": j.breakages.iter().map(|b| json!({
                     "breakage": b.breakage.name(),
