@@ -6,7 +6,7 @@ use uniphys_types::JointKind;
 
 use crate::VerifyResult;
 use crate::motion::JointMotion;
-use crate::patch::{grow_patch, mean_spacing_m};
+use crate::patch::{PosedTree, grow_patch, mean_spacing_m};
 
 /// Parent points within this fraction of the moving group's diagonal of a turning joint's axis
 /// line are the contact at the hinge (its barrel, a handle's two lugs, a screen's hinge line).
@@ -81,7 +81,7 @@ impl ContactReference {
     /// its contact at that line, whatever it touches elsewhere as it swings past or onto other
     /// things (a bucket's handle laid against one side at rest and against the other at the end
     /// of its travel): the larger of both is taken.
-    pub(crate) fn overlap_ratio(&self, points: &[DVec3], moved: &KdTree) -> f64 {
+    pub(crate) fn overlap_ratio(&self, points: &[DVec3], moved: &PosedTree<'_>) -> f64 {
         let whole = covered_either_way(&self.points, &self.tree, points, self.overlap_radius_m);
         match &self.hinge {
             Some(h) => {
@@ -251,7 +251,7 @@ mod tests {
             .collect();
         let moved = KdTree::new(turned);
         (
-            reference.overlap_ratio(&touching(&moved), &moved),
+            reference.overlap_ratio(&touching(&moved), &PosedTree::at_rest(&moved)),
             reference.hinge.is_some(),
         )
     }

@@ -1,7 +1,7 @@
 //! Contact patches: the points of a static part that lie near a moving group, and the threshold
 //! search that finds them (reference 12, steps 2 and 4, with thresholds relative to the object).
 
-use uniphys_geometry::{DVec3, KdTree};
+use uniphys_geometry::{DMat4, DVec3, KdTree};
 
 /// How contact thresholds are searched, as fractions of the object diagonal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,31 +58,79 @@ pub fn grow_patch(
     max_increments: usize,
     min_points: usize,
 ) -> Option<(Vec<DVec3>, f64)> {
-    // Distances once, then thresholds are cheap; a point beyond the last threshold is in no
-    // patch, so its distance is not looked for.
-    let reach_m = start_m + step_m * max_increments as f64;
-    let distances: Vec<f64> = static_points
-        .iter()
-        .map(|p| {
-            moving
-                .nearest_distance_within(*p, reach_m)
-                .unwrap_or(f64::INFINITY)
-        })
-        .collect();
-    for k in 0..=max_increments {
-        let threshold = start_m + step_m * k as f64;
-        let count = distances.iter().filter(|&&d| d <= threshold).count();
-        if count >= min_points {
-            let patch = static_points
-                .iter()
-                .zip(&distances)
-                .filter(|&(_, &d)| d <= threshold)
-                .map(|(p, _)| *p)
-                .collect();
-            return Some((patch, threshold));
+    PosedTree::at_rest(moving).grow_patch(
+        static_points,
+        start_m,
+        step_m,
+        max_increments,
+        min_points,
+    )
+}
+
+/// The moving group's kd-tree at rest, queried at a pose of the sweep: the distance from a point
+/// to the moved group is the distance from the point taken back to rest (a rigid motion keeps
+/// every distance), so no tree is built per pose.
+#[derive(Clone, Copy)]
+pub(crate) struct PosedTree<'a> {
+    rest: &'a KdTree,
+    rest_from_object: DMat4,
+}
+
+impl<'a> PosedTree<'a> {
+    /// The group at rest.
+    pub(crate) fn at_rest(rest: &'a KdTree) -> Self {
+        Self::new(rest, DMat4::IDENTITY)
+    }
+
+    /// The group moved by `object_from_moved` (a rigid motion).
+    pub(crate) fn new(rest: &'a KdTree, object_from_moved: DMat4) -> Self {
+        Self {
+            rest,
+            rest_from_object: object_from_moved.inverse(),
         }
     }
-    None
+
+    /// Distance from `p` (object frame) to the nearest point of the posed group when it is at
+    /// most `max_m` ([`KdTree::nearest_distance_within`]).
+    pub(crate) fn nearest_distance_within(&self, p: DVec3, max_m: f64) -> Option<f64> {
+        self.rest
+            .nearest_distance_within(self.rest_from_object.transform_point3(p), max_m)
+    }
+
+    /// [`grow_patch`] against the posed group.
+    pub(crate) fn grow_patch(
+        &self,
+        static_points: &[DVec3],
+        start_m: f64,
+        step_m: f64,
+        max_increments: usize,
+        min_points: usize,
+    ) -> Option<(Vec<DVec3>, f64)> {
+        // Distances once, then thresholds are cheap; a point beyond the last threshold is in
+        // no patch, so its distance is not looked for.
+        let reach_m = start_m + step_m * max_increments as f64;
+        let distances: Vec<f64> = static_points
+            .iter()
+            .map(|p| {
+                self.nearest_distance_within(*p, reach_m)
+                    .unwrap_or(f64::INFINITY)
+            })
+            .collect();
+        for k in 0..=max_increments {
+            let threshold = start_m + step_m * k as f64;
+            let count = distances.iter().filter(|&&d| d <= threshold).count();
+            if count >= min_points {
+                let patch = static_points
+                    .iter()
+                    .zip(&distances)
+                    .filter(|&(_, &d)| d <= threshold)
+                    .map(|(p, _)| *p)
+                    .collect();
+                return Some((patch, threshold));
+            }
+        }
+        None
+    }
 }
 
 /// Mean distance from each point to its nearest other point (0 for fewer than two points).

@@ -13,7 +13,7 @@ use crate::held::{
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
-use crate::patch::{PatchParams, grow_patch};
+use crate::patch::{PatchParams, PosedTree, grow_patch};
 use crate::scene::Scene;
 use crate::slot::walled_sides;
 use crate::{VerifyError, VerifyResult};
@@ -500,11 +500,10 @@ pub fn sweep(
             let growth = gap_to_parent_m(scene, parent, &moved) - gap_at_rest;
             metrics.short_slide_gap_growth_m = metrics.short_slide_gap_growth_m.max(growth);
         }
-        let moved_tree = KdTree::new(moved);
+        let moved_tree = PosedTree::new(&moving_tree, to_object);
         if let Some(reference) = &reference {
-            let found = grow_patch(
+            let found = moved_tree.grow_patch(
                 parent_points,
-                &moved_tree,
                 reference.threshold_m,
                 step,
                 patch.max_step_increments,
