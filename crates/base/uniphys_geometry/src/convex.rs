@@ -17,40 +17,15 @@ pub struct ConvexParams {
     /// How much a component's hull volume may exceed its solid volume (relative) before the
     /// component is decomposed; also V-HACD's concavity threshold.
     pub concavity_tolerance: f64,
-    /// Smallest V-HACD voxel, metres (0: none). A component spanning fewer voxels of this size
-    /// than `voxel_resolution` is decomposed at that lower resolution (at least
-    /// [`MIN_VHACD_RESOLUTION`]): a knob's colliders need not be finer than a door's, and
-    /// V-HACD's time grows with the voxels it cuts, whatever the component's size.
-    pub voxel_size_min_m: f64,
 }
 
 impl Default for ConvexParams {
-    /// At most 16 hulls, resolution 64, 5 % concavity tolerance, no smallest voxel.
+    /// At most 16 hulls, resolution 64, 5 % concavity tolerance.
     fn default() -> Self {
         Self {
             max_hulls: 16,
             voxel_resolution: 64,
             concavity_tolerance: 0.05,
-            voxel_size_min_m: 0.0,
-        }
-    }
-}
-
-/// The lowest V-HACD resolution [`ConvexParams::voxel_size_min_m`] leads to.
-pub const MIN_VHACD_RESOLUTION: u32 = 24;
-
-impl ConvexParams {
-    /// V-HACD's resolution for a component whose largest extent is `extent_m`.
-    fn resolution_for(&self, extent_m: f64) -> u32 {
-        if self.voxel_size_min_m.is_nan() || self.voxel_size_min_m <= 0.0 {
-            return self.voxel_resolution;
-        }
-        let voxels = (extent_m / self.voxel_size_min_m).ceil();
-        let floor = MIN_VHACD_RESOLUTION.min(self.voxel_resolution);
-        if voxels >= f64::from(self.voxel_resolution) {
-            self.voxel_resolution
-        } else {
-            (voxels as u32).max(floor)
         }
     }
 }
@@ -73,8 +48,7 @@ impl Hull {
 /// The mesh is split into connected components ([`connected_components`]). A component whose
 /// convex hull exceeds its solid volume ([`solid_mass_properties`]) by at most
 /// `concavity_tolerance` is replaced by that hull; any other is decomposed by parry3d's V-HACD
-/// at `voxel_resolution`, or lower for a component smaller than that many of the smallest voxels
-/// ([`ConvexParams::voxel_size_min_m`]) (hull of the mesh clipped to each part, or of the part's voxels where that fails; the
+/// (hull of the mesh clipped to each part, or of the part's voxels where that fails; the
 /// component's single hull if V-HACD fails altogether). A flat component (a zero-thickness
 /// panel) gets a slab 1 % of its size thick; hulls below 1e-6
 /// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
@@ -85,16 +59,13 @@ impl Hull {
 pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryResult<Vec<TriMesh>> {
     let resolution = params.voxel_resolution as usize;
     let tolerance = params.concavity_tolerance;
-    let finite_non_negative = |x: f64| x.is_finite() && x >= 0.0;
-    let valid = params.max_hulls > 0
-        && (1..=MAX_VOXEL_RESOLUTION).contains(&resolution)
-        && finite_non_negative(tolerance)
-        && finite_non_negative(params.voxel_size_min_m);
-    if !valid {
+    if params.max_hulls == 0
+        || !(1..=MAX_VOXEL_RESOLUTION).contains(&resolution)
+        || !(tolerance.is_finite() && tolerance >= 0.0)
+    {
         return Err(GeometryError::InvalidParameter(format!(
             "convex decomposition needs max_hulls > 0, a voxel resolution in \
-             1..={MAX_VOXEL_RESOLUTION}, a non-negative tolerance and smallest voxel, got \
-             {params:?}"
+             1..={MAX_VOXEL_RESOLUTION} and a non-negative tolerance, got {params:?}"
         )));
     }
     let mut hulls: Vec<Hull> = Vec::new();
@@ -120,11 +91,7 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
             continue;
         }
         let min_volume = 1e-6 * hull.volume_m3;
-        let component_params = ConvexParams {
-            voxel_resolution: params.resolution_for(extent),
-            ..*params
-        };
-        let parts: Vec<Hull> = decompose(&component, &component_params)
+        let parts: Vec<Hull> = decompose(&component, params)
             .unwrap_or_default()
             .into_iter()
             .filter(|h| h.volume_m3 > min_volume)
@@ -319,37 +286,6 @@ mod tests {
         let total: f64 = volumes(&hulls).iter().sum();
         assert!((total - 3.0).abs() < 0.3, "total hull volume {total}");
         assert_eq!(hulls, convex_decomposition(&l_prism(), &params).unwrap());
-    }
-
-    #[test]
-    fn a_smallest_voxel_lowers_the_resolution_of_small_components_only() {
-        let params = ConvexParams {
-            voxel_size_min_m: 0.01,
-            ..ConvexParams::default()
-        };
-        assert_eq!(params.resolution_for(1.0), 64);
-        assert_eq!(params.resolution_for(0.3), 30);
-        assert_eq!(params.resolution_for(0.05), MIN_VHACD_RESOLUTION);
-        assert_eq!(ConvexParams::default().resolution_for(0.05), 64);
-        // The L prism (2 m long) at the lowest resolution still splits into hulls close to its
-        // volume (at 16 voxels V-HACD leaves it one hull).
-        let coarse = ConvexParams {
-            voxel_size_min_m: 2.0 / 24.0,
-            ..ConvexParams::default()
-        };
-        assert_eq!(coarse.resolution_for(2.0), MIN_VHACD_RESOLUTION);
-        let hulls = convex_decomposition(&l_prism(), &coarse).unwrap();
-        let total: f64 = volumes(&hulls).iter().sum();
-        assert!(hulls.len() >= 2, "{}", hulls.len());
-        assert!((total - 3.0).abs() < 0.3, "total hull volume {total}");
-        let negative = ConvexParams {
-            voxel_size_min_m: -1.0,
-            ..ConvexParams::default()
-        };
-        assert!(matches!(
-            convex_decomposition(&l_prism(), &negative),
-            Err(GeometryError::InvalidParameter(_))
-        ));
     }
 
     #[test]

@@ -44,7 +44,7 @@ pub use carve::{OrientedBox, carve_out};
 pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;
 pub use contact::{ContactParams, ContactRegion, DistanceProbe, contact_region, min_distance_m};
-pub use convex::{ConvexParams, MIN_VHACD_RESOLUTION, convex_decomposition};
+pub use convex::{ConvexParams, convex_decomposition};
 pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
 pub use exposure::{ExposureProbe, sphere_directions};

@@ -45,13 +45,8 @@ pub struct RunOptions {
     pub ingest: IngestOptions,
     /// Voxels along the longest side of a part for the volume of open meshes (reference: 128).
     pub voxel_resolution: usize,
-    /// Convex decomposition parameters for the colliders; their smallest voxel is set from
-    /// `collider_voxel_fraction`.
+    /// Convex decomposition parameters for the colliders.
     pub convex: ConvexParams,
-    /// Smallest voxel of the colliders' decomposition, as a fraction of the object's diagonal:
-    /// small parts are decomposed at the precision of large ones, not finer (0: every piece at
-    /// the full resolution of `convex`).
-    pub collider_voxel_fraction: f64,
     /// Parts closer than this fraction of the object diagonal count as touching (MJCF excludes).
     pub touching_fraction: f64,
     /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
@@ -84,7 +79,6 @@ impl Default for RunOptions {
             ingest: IngestOptions::default(),
             voxel_resolution: 128,
             convex: ConvexParams::default(),
-            collider_voxel_fraction: 0.005,
             touching_fraction: 0.005,
             learned: None,
             lvlm: None,
@@ -290,12 +284,8 @@ pub fn run(
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
         let done = AtomicUsize::new(0);
-        let convex = ConvexParams {
-            voxel_size_min_m: options.collider_voxel_fraction * asset.bounds().diagonal(),
-            ..options.convex
-        };
         let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |_, part| {
-            let hulls = convex_decomposition(&part.mesh, &convex).map_err(|source| {
+            let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
                 PipelineError::Geometry {
                     part: part.name.clone(),
                     source,
