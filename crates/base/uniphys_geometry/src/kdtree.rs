@@ -30,12 +30,6 @@ impl KdTree {
         }
     }
 
-    /// The box around the tree's points ([`Aabb::EMPTY`] for an empty tree).
-    #[must_use]
-    pub fn bounds(&self) -> Aabb {
-        self.bounds
-    }
-
     /// Number of points in the tree.
     #[must_use]
     pub fn len(&self) -> usize {

@@ -1,7 +1,8 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
-//! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions
-//! between parts, plane fitting, convex outlines in a plane, k-means, a parallel map over independent work, optimal one-to-one assignment, convex decomposition,
-//! and the sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
+//! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions and
+//! distances between parts, plane fitting, convex outlines in a plane, k-means, optimal
+//! one-to-one assignment, convex decomposition, a parallel map over independent work, and the
+//! sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
 //! a given seed.
 //!
 //! Coordinates are `f64` metres in the object frame (Z up) once an asset has been ingested.

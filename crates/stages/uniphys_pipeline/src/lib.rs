@@ -11,7 +11,6 @@ mod error;
 mod learned;
 mod lvlm;
 mod mass_calibration;
-mod parallel;
 mod preview;
 mod progress;
 mod real_scale;

@@ -15,7 +15,7 @@ use uniphys_decompose::{
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
     ConvexParams, DMat4, DVec3, DistanceProbe, MassProperties, MeshAsset, TriMesh, VolumeMethod,
-    WallSamples, convex_decomposition, solid_mass_properties,
+    WallSamples, convex_decomposition, parallel_map, solid_mass_properties,
 };
 use uniphys_ground::{
     MAX_WALL_FACTOR, ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part,
@@ -32,7 +32,6 @@ use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
 use crate::mass_calibration::calibrate_walls;
-use crate::parallel::par_map;
 use crate::preview::{PREVIEW_PATH, preview_png};
 use crate::real_scale::auto_scale;
 use crate::verify::{VerifyOptions, verify};
@@ -253,7 +252,7 @@ pub fn run(
         ));
         let total = asset.parts.len();
         let done = AtomicUsize::new(0);
-        let prepared: Vec<PipelineResult<Prepared>> = par_map(&asset.parts, |_, part| {
+        let prepared: Vec<PipelineResult<Prepared>> = parallel_map(&asset.parts, |part| {
             let result = solid_mass_properties(&part.mesh, options.voxel_resolution)
                 .map(|(mass, method)| Prepared {
                     mass,
@@ -284,7 +283,7 @@ pub fn run(
     let colliders = clock.stage(Stage::Colliders, || {
         let total = asset.parts.len();
         let done = AtomicUsize::new(0);
-        let hulls: Vec<PipelineResult<Vec<TriMesh>>> = par_map(&asset.parts, |_, part| {
+        let hulls: Vec<PipelineResult<Vec<TriMesh>>> = parallel_map(&asset.parts, |part| {
             let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
                 PipelineError::Geometry {
                     part: part.name.clone(),
@@ -522,8 +521,8 @@ fn touching_pairs(asset: &MeshAsset, fraction: f64) -> Vec<(PartId, PartId)> {
     let pairs: Vec<(usize, usize)> = (0..n)
         .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
         .collect();
-    let probes = par_map(&asset.parts, |_, part| DistanceProbe::new(&part.mesh));
-    let close = par_map(&pairs, |_, &(i, j)| {
+    let probes = parallel_map(&asset.parts, |part| DistanceProbe::new(&part.mesh));
+    let close = parallel_map(&pairs, |&(i, j)| {
         probes[i].min_distance_m(&probes[j]) <= threshold
     });
     let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
