@@ -35,22 +35,26 @@ NAME_ATTR = re.compile(r'(<(?:visual|collision))\s+name="[^"]*"')
 def hidden_copy(source, dest, meshes=None):
     """`source` without its part labels (the files that hold them and the `name` of visuals and
     collisions), as the articulation benchmark hides them; the meshes are copied (the pipeline
-    reads no file outside the asset's folder, so links will not do), or replaced by `meshes`."""
+    reads no file outside the asset's folder, so links will not do), or `meshes`, a folder of
+    replacements, is moved in."""
     dest.mkdir(parents=True)
     for entry in source.iterdir():
         if entry.name in HIDDEN_FILES:
             continue
         if entry.name == "mobility.urdf":
             (dest / entry.name).write_text(NAME_ATTR.sub(r"\1", entry.read_text()))
+        elif entry.is_dir() and meshes is None:
+            shutil.copytree(entry, dest / entry.name)
         elif entry.is_dir():
-            shutil.copytree(entry if meshes is None else meshes, dest / entry.name)
+            shutil.move(meshes, dest / entry.name)
         else:
             shutil.copy2(entry, dest / entry.name)
 
 
 def run_measured(binary, asset, out):
-    """`run` with the child's peak RSS: each run is wrapped in `/usr/bin/time -f %M` when present
-    (GNU time prints the peak in KiB), else the RSS is unknown."""
+    """One `uniphys run --ignore-joints`: (per-stage ms, or None on failure; wall s; peak RSS MiB;
+    error lines). The run is wrapped in `/usr/bin/time -f %M` when present (GNU time prints the
+    child's peak in KiB), else the RSS is unknown (nan)."""
     time_bin = "/usr/bin/time"
     cmd = [binary, "run", str(asset), "--out", str(out), "--json", "--force", "--ignore-joints"]
     started = time.time()
@@ -207,7 +211,6 @@ def main():
             ratio = f" | {fmt_ratio(walls['new'], walls['base'])} |" if len(binaries) > 1 else " |"
             print(f"| {tris} | " + " | ".join(cells) + ratio, flush=True)
             shutil.rmtree(asset, ignore_errors=True)
-            shutil.rmtree(meshes, ignore_errors=True)
     shutil.rmtree(work, ignore_errors=True)
 
 
