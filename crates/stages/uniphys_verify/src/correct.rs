@@ -92,11 +92,11 @@ pub(crate) fn correct_failed(
         |m: &SweepMetrics, j: &Joint| misfit(scene, j, &moving_points, m) + cut_penalty(joint, j);
     let mut chosen: Option<Correction> = None;
     for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
-        // (preference on the screen, misfit, variant)
         // Sweeps are independent: each list runs on all cores, and is read in order.
         let screens = parallel_map(&tier, |variant| {
             sweep(scene, &variant.joint, moving, &screen)
         });
+        // (preference on the screen, misfit, variant)
         let mut screened: Vec<((i64, f64), f64, usize)> = Vec::new();
         for (k, (variant, m)) in tier.iter().zip(screens).enumerate() {
             let m = m?;
