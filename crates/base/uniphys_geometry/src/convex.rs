@@ -4,7 +4,7 @@ use parry3d::transformation::voxelization::VoxelSet;
 
 use crate::{
     Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, box_axes,
-    connected_components, convex_hull, sample_points, solid_mass_properties,
+    connected_components, convex_hull, parallel_map, sample_points, solid_mass_properties,
 };
 
 /// Parameters of [`convex_decomposition`].
@@ -53,7 +53,8 @@ impl Hull {
 /// panel) gets a slab 1 % of its size thick; hulls below 1e-6
 /// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
 /// the smallest is merged into the hull whose bounds are nearest its centre (the hull of both
-/// point sets), so no region loses its collision shape. Deterministic.
+/// point sets), so no region loses its collision shape. Components are worked on all cores;
+/// deterministic.
 ///
 /// Errors: invalid parameters; [`GeometryError::Degenerate`] if no hull with volume remains.
 pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryResult<Vec<TriMesh>> {
@@ -68,45 +69,50 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
              1..={MAX_VOXEL_RESOLUTION} and a non-negative tolerance, got {params:?}"
         )));
     }
-    let mut hulls: Vec<Hull> = Vec::new();
-    for faces in connected_components(mesh) {
-        let component = mesh.submesh(&faces);
-        if component.area() <= 0.0 {
-            continue;
-        }
-        let extent = component.bounds().max_extent();
-        let hull = convex_hull(&component.positions)
-            .ok()
-            .map(Hull::new)
-            .filter(|h| h.volume_m3.abs() > 1e-9 * extent.powi(3));
-        let Some(hull) = hull else {
-            // Flat (a zero-thickness panel): a thin slab; a line or a point: nothing to collide.
-            hulls.extend(slab_hull(&component).map(Hull::new));
-            continue;
-        };
-        let solid_volume =
-            solid_mass_properties(&component, resolution).map_or(0.0, |(m, _)| m.volume_m3);
-        if hull.volume_m3 <= solid_volume * (1.0 + tolerance) {
-            hulls.push(hull);
-            continue;
-        }
-        let min_volume = 1e-6 * hull.volume_m3;
-        let parts: Vec<Hull> = decompose(&component, params)
-            .unwrap_or_default()
-            .into_iter()
-            .filter(|h| h.volume_m3 > min_volume)
-            .collect();
-        if parts.is_empty() {
-            hulls.push(hull); // V-HACD failed: the single hull still covers the component
-        } else {
-            hulls.extend(parts);
-        }
-    }
+    let components = connected_components(mesh);
+    let per_component = parallel_map(&components, |faces| {
+        component_hulls(&mesh.submesh(faces), params)
+    });
+    let mut hulls: Vec<Hull> = per_component.into_iter().flatten().collect();
     if hulls.is_empty() {
         return Err(GeometryError::Degenerate);
     }
     merge_down(&mut hulls, params.max_hulls);
     Ok(hulls.into_iter().map(|h| h.mesh).collect())
+}
+
+/// The hulls of one connected component: its own hull when it is nearly convex, a slab when it
+/// is flat, else V-HACD's parts.
+fn component_hulls(component: &TriMesh, params: &ConvexParams) -> Vec<Hull> {
+    if component.area() <= 0.0 {
+        return Vec::new();
+    }
+    let extent = component.bounds().max_extent();
+    let hull = convex_hull(&component.positions)
+        .ok()
+        .map(Hull::new)
+        .filter(|h| h.volume_m3.abs() > 1e-9 * extent.powi(3));
+    let Some(hull) = hull else {
+        // Flat (a zero-thickness panel): a thin slab; a line or a point: nothing to collide.
+        return slab_hull(component).map(Hull::new).into_iter().collect();
+    };
+    let resolution = params.voxel_resolution as usize;
+    let solid_volume =
+        solid_mass_properties(component, resolution).map_or(0.0, |(m, _)| m.volume_m3);
+    if hull.volume_m3 <= solid_volume * (1.0 + params.concavity_tolerance) {
+        return vec![hull];
+    }
+    let min_volume = 1e-6 * hull.volume_m3;
+    let parts: Vec<Hull> = decompose(component, params)
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|h| h.volume_m3 > min_volume)
+        .collect();
+    if parts.is_empty() {
+        vec![hull] // V-HACD failed: the single hull still covers the component
+    } else {
+        parts
+    }
 }
 
 /// Thickness of the collision slab of a flat component, as a fraction of its largest extent.
@@ -240,6 +246,7 @@ mod tests {
     use super::*;
     use crate::MassProperties;
     use crate::test_shapes::{l_prism, two_boxes, unit_box};
+    use glam::DMat4;
 
     fn volumes(hulls: &[TriMesh]) -> Vec<f64> {
         hulls
@@ -286,6 +293,27 @@ mod tests {
         let total: f64 = volumes(&hulls).iter().sum();
         assert!((total - 3.0).abs() < 0.3, "total hull volume {total}");
         assert_eq!(hulls, convex_decomposition(&l_prism(), &params).unwrap());
+    }
+
+    #[test]
+    fn components_decomposed_on_all_cores_come_back_in_mesh_order() {
+        // Three concave components, each moved further along x: the hulls of the whole are
+        // those of each component alone, in the order of the components.
+        let params = ConvexParams {
+            max_hulls: 64,
+            ..ConvexParams::default()
+        };
+        let pieces: Vec<TriMesh> = [0.0, 5.0, 10.0]
+            .iter()
+            .map(|x| l_prism().transformed(&DMat4::from_translation(DVec3::new(*x, 0.0, 0.0))))
+            .collect();
+        let whole = convex_decomposition(&TriMesh::merge(&pieces), &params).unwrap();
+        let alone: Vec<TriMesh> = pieces
+            .iter()
+            .flat_map(|p| convex_decomposition(p, &params).unwrap())
+            .collect();
+        assert!(alone.len() >= 6, "{}", alone.len());
+        assert_eq!(whole, alone);
     }
 
     #[test]
