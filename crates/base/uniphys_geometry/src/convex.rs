@@ -1,10 +1,11 @@
-use glam::{DMat3, DVec3, Vec3};
-use parry3d::transformation::vhacd::{VHACD, VHACDParameters};
-use parry3d::transformation::voxelization::VoxelSet;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
+use glam::DVec3;
+
+use crate::vhacd::{ComponentFrame, first_copies};
 use crate::{
-    Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, box_axes,
-    connected_components, convex_hull, parallel_map, sample_points, solid_mass_properties,
+    Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, connected_components,
+    convex_hull, parallel_map, solid_mass_properties,
 };
 
 /// Parameters of [`convex_decomposition`].
@@ -30,14 +31,14 @@ impl Default for ConvexParams {
     }
 }
 
-/// A hull with its volume.
-struct Hull {
-    mesh: TriMesh,
-    volume_m3: f64,
+/// A closed convex hull with its volume.
+pub(crate) struct Hull {
+    pub(crate) mesh: TriMesh,
+    pub(crate) volume_m3: f64,
 }
 
 impl Hull {
-    fn new(mesh: TriMesh) -> Self {
+    pub(crate) fn new(mesh: TriMesh) -> Self {
         let volume_m3 = signed_volume(&mesh);
         Self { mesh, volume_m3 }
     }
@@ -53,11 +54,31 @@ impl Hull {
 /// panel) gets a slab 1 % of its size thick; hulls below 1e-6
 /// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
 /// the smallest is merged into the hull whose bounds are nearest its centre (the hull of both
-/// point sets), so no region loses its collision shape. Components are worked on all cores;
-/// deterministic.
+/// point sets), so no region loses its collision shape. Components are worked on all cores, and
+/// V-HACD runs once for a shape that repeats ([`convex_decompositions`]). Deterministic.
 ///
 /// Errors: invalid parameters; [`GeometryError::Degenerate`] if no hull with volume remains.
 pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryResult<Vec<TriMesh>> {
+    convex_decompositions(&[mesh], params, &|_, _| {})?
+        .pop()
+        .expect("one result per mesh")
+}
+
+/// [`convex_decomposition`] of several meshes (the parts of one object) at once: the connected
+/// components of all of them are worked on all cores, and a component that is a moved copy of
+/// an earlier one (the same triangles, the same vertices in its own box frame to 1e-4 of its
+/// size: another key of a keyboard, another knob of an oven) gets that component's V-HACD hulls
+/// moved onto it instead of a V-HACD run of its own. The first of each shape is decomposed
+/// exactly as alone. One result per mesh, in order. `progress` is told how many V-HACD runs
+/// have finished of how many, as they finish (from any thread).
+///
+/// Errors: invalid parameters (for all); per mesh, [`GeometryError::Degenerate`] if no hull
+/// with volume remains.
+pub fn convex_decompositions(
+    meshes: &[&TriMesh],
+    params: &ConvexParams,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> GeometryResult<Vec<GeometryResult<Vec<TriMesh>>>> {
     let resolution = params.voxel_resolution as usize;
     let tolerance = params.concavity_tolerance;
     if params.max_hulls == 0
@@ -69,23 +90,95 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
              1..={MAX_VOXEL_RESOLUTION} and a non-negative tolerance, got {params:?}"
         )));
     }
-    let components = connected_components(mesh);
-    let per_component = parallel_map(&components, |faces| {
-        component_hulls(&mesh.submesh(faces), params)
+    // Every component of every mesh, in mesh order, judged on all cores.
+    let components: Vec<(usize, Vec<usize>)> = parallel_map(meshes, |m| connected_components(m))
+        .into_iter()
+        .enumerate()
+        .flat_map(|(mesh, faces)| faces.into_iter().map(move |f| (mesh, f)))
+        .collect();
+    let judged = parallel_map(&components, |(mesh, faces)| {
+        judge(&meshes[*mesh].submesh(faces), params)
     });
-    let mut hulls: Vec<Hull> = per_component.into_iter().flatten().collect();
-    if hulls.is_empty() {
-        return Err(GeometryError::Degenerate);
+    // V-HACD on the first component of each concave shape, on all cores; its hulls moved onto
+    // the later copies.
+    let frames: Vec<&ComponentFrame> = judged
+        .iter()
+        .filter_map(|j| match j {
+            Judged::Concave { frame, .. } => Some(frame),
+            Judged::Done(_) => None,
+        })
+        .collect();
+    let first = first_copies(&frames);
+    let (originals, copies): (Vec<usize>, Vec<usize>) =
+        (0..frames.len()).partition(|&k| first[k] == k);
+    let mut outcomes: Vec<Option<Vec<Hull>>> = frames.iter().map(|_| None).collect();
+    let finished = AtomicUsize::new(0);
+    let runs = parallel_map(&originals, |&k| {
+        let hulls = frames[k].decompose(params);
+        progress(
+            finished.fetch_add(1, Ordering::Relaxed) + 1,
+            originals.len(),
+        );
+        hulls
+    });
+    for (k, hulls) in originals.iter().zip(runs) {
+        outcomes[*k] = hulls;
     }
-    merge_down(&mut hulls, params.max_hulls);
-    Ok(hulls.into_iter().map(|h| h.mesh).collect())
+    let moved = parallel_map(&copies, |&k| {
+        outcomes[first[k]]
+            .as_ref()
+            .map(|hulls| frames[k].moved_hulls(frames[first[k]], hulls))
+    });
+    for (k, hulls) in copies.into_iter().zip(moved) {
+        outcomes[k] = hulls;
+    }
+    let mut outcomes = outcomes.into_iter();
+    // Each mesh's hulls in the order of its components.
+    let mut per_mesh: Vec<Vec<Hull>> = meshes.iter().map(|_| Vec::new()).collect();
+    for ((mesh, _), judged) in components.iter().zip(judged) {
+        let hulls = match judged {
+            Judged::Done(hulls) => hulls,
+            Judged::Concave { hull, .. } => {
+                let min_volume = 1e-6 * hull.volume_m3;
+                let parts: Vec<Hull> = outcomes
+                    .next()
+                    .flatten()
+                    .unwrap_or_default()
+                    .into_iter()
+                    .filter(|h| h.volume_m3 > min_volume)
+                    .collect();
+                if parts.is_empty() {
+                    vec![hull] // V-HACD failed: the single hull still covers the component
+                } else {
+                    parts
+                }
+            }
+        };
+        per_mesh[*mesh].extend(hulls);
+    }
+    Ok(per_mesh
+        .into_iter()
+        .map(|mut hulls| {
+            if hulls.is_empty() {
+                return Err(GeometryError::Degenerate);
+            }
+            merge_down(&mut hulls, params.max_hulls);
+            Ok(hulls.into_iter().map(|h| h.mesh).collect())
+        })
+        .collect())
 }
 
-/// The hulls of one connected component: its own hull when it is nearly convex, a slab when it
-/// is flat, else V-HACD's parts.
-fn component_hulls(component: &TriMesh, params: &ConvexParams) -> Vec<Hull> {
+/// What a connected component needs.
+enum Judged {
+    /// Its hulls are known: none (no area), a slab (flat) or its own hull (nearly convex).
+    Done(Vec<Hull>),
+    /// Concave: V-HACD decomposes it in `frame`; `hull` is its single hull.
+    Concave { hull: Hull, frame: ComponentFrame },
+}
+
+fn judge(component: &TriMesh, params: &ConvexParams) -> Judged {
     if component.area() <= 0.0 {
-        return Vec::new();
+        return Judged::Done(Vec::new());
     }
     let extent = component.bounds().max_extent();
     let hull = convex_hull(&component.positions)
@@ -94,24 +187,17 @@ fn component_hulls(component: &TriMesh, params: &ConvexParams) -> Vec<Hull> {
         .filter(|h| h.volume_m3.abs() > 1e-9 * extent.powi(3));
     let Some(hull) = hull else {
         // Flat (a zero-thickness panel): a thin slab; a line or a point: nothing to collide.
-        return slab_hull(component).map(Hull::new).into_iter().collect();
+        return Judged::Done(slab_hull(component).map(Hull::new).into_iter().collect());
     };
     let resolution = params.voxel_resolution as usize;
     let solid_volume =
         solid_mass_properties(component, resolution).map_or(0.0, |(m, _)| m.volume_m3);
     if hull.volume_m3 <= solid_volume * (1.0 + params.concavity_tolerance) {
-        return vec![hull];
+        return Judged::Done(vec![hull]);
     }
-    let min_volume = 1e-6 * hull.volume_m3;
-    let parts: Vec<Hull> = decompose(component, params)
-        .unwrap_or_default()
-        .into_iter()
-        .filter(|h| h.volume_m3 > min_volume)
-        .collect();
-    if parts.is_empty() {
-        vec![hull] // V-HACD failed: the single hull still covers the component
-    } else {
-        parts
+    Judged::Concave {
+        hull,
+        frame: ComponentFrame::of(component),
     }
 }
 
@@ -133,69 +219,6 @@ fn slab_hull(component: &TriMesh) -> Option<TriMesh> {
         .flat_map(|p| [*p + plane.normal * half, *p - plane.normal * half])
         .collect();
     convex_hull(&points).ok()
-}
-
-/// V-HACD on one component, in `f32` relative to its centroid and in the frame of its tight box
-/// ([`box_axes`]), so that V-HACD's axis-aligned voxels follow the part's own edges whatever
-/// its pose (a turned cabinet decomposes into the same panels as an upright one). Each part's
-/// hull is the hull of the mesh clipped to the part's surface voxels, or of those voxels'
-/// corners if that fails. `None` if V-HACD panicked (a third-party failure must not take the
-/// service down).
-fn decompose(component: &TriMesh, params: &ConvexParams) -> Option<Vec<Hull>> {
-    let centroid =
-        component.positions.iter().sum::<DVec3>() / component.positions.len().max(1) as f64;
-    let [a, b, c] = box_axes(&sample_points(component, 2000, 0xb0c5));
-    // Rows are the box axes: box_from_object.
-    let box_from_object = DMat3::from_cols(a, b, c).transpose();
-    let object_from_box = box_from_object.transpose();
-    let points: Vec<Vec3> = component
-        .positions
-        .iter()
-        .map(|p| (box_from_object * (*p - centroid)).as_vec3())
-        .collect();
-    let vhacd_params = VHACDParameters {
-        resolution: params.voxel_resolution,
-        concavity: params.concavity_tolerance as f32,
-        max_convex_hulls: u32::try_from(params.max_hulls).unwrap_or(u32::MAX),
-        ..VHACDParameters::default()
-    };
-    let to_world = |vertices: &[Vec3]| -> Vec<DVec3> {
-        vertices
-            .iter()
-            .map(|v| centroid + object_from_box * v.as_dvec3())
-            .collect()
-    };
-    let run = || {
-        let decomposition = VHACD::decompose(&vhacd_params, &points, &component.triangles, true);
-        decomposition
-            .voxel_parts()
-            .iter()
-            .filter_map(|part| {
-                let clipped = part.compute_primitive_intersections(&points, &component.triangles);
-                convex_hull(&to_world(&clipped))
-                    .or_else(|_| convex_hull(&to_world(&surface_voxel_corners(part))))
-                    .ok()
-                    .map(Hull::new)
-            })
-            .collect()
-    };
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).ok()
-}
-
-/// Corners of the surface voxels of a V-HACD part.
-fn surface_voxel_corners(part: &VoxelSet) -> Vec<Vec3> {
-    let mut corners = Vec::new();
-    for voxel in part.voxels().iter().filter(|v| v.is_on_surface) {
-        let centre = voxel.coords.as_vec3();
-        for dz in [-0.5, 0.5] {
-            for dy in [-0.5, 0.5] {
-                for dx in [-0.5, 0.5] {
-                    corners.push(part.origin + (centre + Vec3::new(dx, dy, dz)) * part.scale);
-                }
-            }
-        }
-    }
-    corners
 }
 
 /// Merges the smallest hull into its nearest neighbour until at most `max_hulls` remain.
@@ -297,15 +320,22 @@ mod tests {
 
     #[test]
     fn components_decomposed_on_all_cores_come_back_in_mesh_order() {
-        // Three concave components, each moved further along x: the hulls of the whole are
-        // those of each component alone, in the order of the components.
+        // Three concave components of different shapes (so none is a copy of another), each
+        // further along x: the hulls of the whole are those of each component alone, in the
+        // order of the components.
         let params = ConvexParams {
             max_hulls: 64,
             ..ConvexParams::default()
         };
-        let pieces: Vec<TriMesh> = [0.0, 5.0, 10.0]
+        let pieces: Vec<TriMesh> = [(0.0, 1.0), (5.0, 1.2), (10.0, 1.4)]
             .iter()
-            .map(|x| l_prism().transformed(&DMat4::from_translation(DVec3::new(*x, 0.0, 0.0))))
+            .map(|(x, stretch)| {
+                l_prism().transformed(&DMat4::from_scale_rotation_translation(
+                    DVec3::new(1.0, *stretch, 1.0),
+                    glam::DQuat::IDENTITY,
+                    DVec3::new(*x, 0.0, 0.0),
+                ))
+            })
             .collect();
         let whole = convex_decomposition(&TriMesh::merge(&pieces), &params).unwrap();
         let alone: Vec<TriMesh> = pieces
@@ -314,6 +344,55 @@ mod tests {
             .collect();
         assert!(alone.len() >= 6, "{}", alone.len());
         assert_eq!(whole, alone);
+    }
+
+    #[test]
+    fn a_moved_copy_gets_the_hulls_of_its_original_and_v_hacd_runs_once_per_shape() {
+        let params = ConvexParams {
+            max_hulls: 64,
+            ..ConvexParams::default()
+        };
+        let original = l_prism();
+        let world_from_copy = DMat4::from_rotation_translation(
+            glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7),
+            DVec3::new(10.0, -4.0, 2.0),
+        );
+        let copy = original.transformed(&world_from_copy);
+        // Not a copy: the same triangles, stretched.
+        let stretched = original.transformed(&DMat4::from_scale(DVec3::new(1.0, 1.3, 1.0)));
+        let runs = std::sync::Mutex::new(Vec::new());
+        let results =
+            convex_decompositions(&[&original, &copy, &stretched], &params, &|done, total| {
+                runs.lock().unwrap().push((done, total))
+            })
+            .unwrap();
+        let [a, b, c] = [0, 1, 2].map(|i| results[i].as_ref().unwrap());
+        // Two V-HACD runs: the original and the stretched one.
+        let mut runs = runs.into_inner().unwrap();
+        runs.sort_unstable();
+        assert_eq!(runs, vec![(1, 2), (2, 2)]);
+        // The first of a shape is decomposed as alone, and so is a different shape.
+        assert_eq!(a, &convex_decomposition(&original, &params).unwrap());
+        assert_eq!(c, &convex_decomposition(&stretched, &params).unwrap());
+        // The copy's hulls are the original's, moved: the same volumes, and corners that are the
+        // original's corners moved (a corner in the middle of a face may drop out).
+        assert_eq!(a.len(), b.len());
+        for (h, moved) in a.iter().zip(b) {
+            let [v, w] = [h, moved].map(|m| volumes(std::slice::from_ref(m))[0]);
+            assert!((v - w).abs() < 1e-6 * v, "{v} {w}");
+            let corners: Vec<DVec3> = h
+                .positions
+                .iter()
+                .map(|p| world_from_copy.transform_point3(*p))
+                .collect();
+            for p in &moved.positions {
+                let nearest = corners
+                    .iter()
+                    .map(|c| (*c - *p).length())
+                    .fold(f64::MAX, f64::min);
+                assert!(nearest < 1e-6, "{p} is {nearest} from the moved corners");
+            }
+        }
     }
 
     #[test]

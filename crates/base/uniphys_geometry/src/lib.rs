@@ -36,6 +36,7 @@ mod solid;
 #[cfg(test)]
 mod test_shapes;
 mod tri_box;
+mod vhacd;
 mod voxel;
 mod voxel_raster;
 
@@ -45,7 +46,7 @@ pub use carve::{OrientedBox, carve_out};
 pub use color::{linear_to_srgb8, srgb8_to_linear, texel_rgba8};
 pub use components::connected_components;
 pub use contact::{ContactParams, ContactRegion, DistanceProbe, contact_region, min_distance_m};
-pub use convex::{ConvexParams, convex_decomposition};
+pub use convex::{ConvexParams, convex_decomposition, convex_decompositions};
 pub use eigen::symmetric_eigen;
 pub use error::{GeometryError, GeometryResult};
 pub use exposure::{ExposureProbe, sphere_directions};

@@ -15,7 +15,7 @@ use uniphys_decompose::{
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
     ConvexParams, DMat4, DVec3, DistanceProbe, MassProperties, MeshAsset, TriMesh, VolumeMethod,
-    WallSamples, convex_decomposition, parallel_map, solid_mass_properties,
+    WallSamples, convex_decompositions, parallel_map, solid_mass_properties,
 };
 use uniphys_ground::{
     MAX_WALL_FACTOR, ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part,
@@ -281,22 +281,32 @@ pub fn run(
     })?;
 
     let colliders = clock.stage(Stage::Colliders, || {
-        let total = asset.parts.len();
-        let done = AtomicUsize::new(0);
-        let hulls: Vec<PipelineResult<Vec<TriMesh>>> = parallel_map(&asset.parts, |part| {
-            let hulls = convex_decomposition(&part.mesh, &options.convex).map_err(|source| {
+        let meshes: Vec<&TriMesh> = asset.parts.iter().map(|p| &p.mesh).collect();
+        let advanced = |done, total| progress.stage_advanced(Stage::Colliders, done, total);
+        // One call for all parts: a shape repeated across parts (an oven's knobs) is decomposed
+        // once.
+        let hulls =
+            convex_decompositions(&meshes, &options.convex, &advanced).map_err(|source| {
                 PipelineError::Geometry {
-                    part: part.name.clone(),
+                    part: "every part".to_owned(),
                     source,
                 }
-            });
-            let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress.stage_advanced(Stage::Colliders, finished, total);
-            hulls
-        });
-        let hulls: Vec<Vec<TriMesh>> = hulls.into_iter().collect::<PipelineResult<_>>()?;
+            })?;
+        let hulls: Vec<Vec<TriMesh>> = hulls
+            .into_iter()
+            .zip(&asset.parts)
+            .map(|(hulls, part)| {
+                hulls.map_err(|source| PipelineError::Geometry {
+                    part: part.name.clone(),
+                    source,
+                })
+            })
+            .collect::<PipelineResult<_>>()?;
         let count: usize = hulls.iter().map(Vec::len).sum();
-        Ok((hulls, format!("{count} convex hulls for {total} parts")))
+        Ok((
+            hulls,
+            format!("{count} convex hulls for {} parts", asset.parts.len()),
+        ))
     })?;
 
     let (record, articulation_notes) = clock.stage(Stage::Ground, || {

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use uniphys_geometry::{
-    ConvexParams, DVec3, TriMesh, box_axes, convex_decomposition, parallel_map,
+    ConvexParams, DVec3, TriMesh, box_axes, convex_decompositions, parallel_map,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointKind, Provenance};
@@ -78,11 +78,12 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
     loaded.asset.rest_on_ground();
     let asset = loaded.asset;
     let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
-    let colliders: Vec<Vec<TriMesh>> = parallel_map(&meshes, |m| {
-        convex_decomposition(m, &ConvexParams::default())
-    })
-    .into_iter()
-    .collect::<Result<_, _>>()?;
+    // As the pipeline builds them: a shape repeated across parts is decomposed once.
+    let parts: Vec<&TriMesh> = meshes.iter().collect();
+    let colliders: Vec<Vec<TriMesh>> =
+        convex_decompositions(&parts, &ConvexParams::default(), &|_, _| {})?
+            .into_iter()
+            .collect::<Result<_, _>>()?;
     let scene = Scene::new(&meshes, &colliders, SAMPLES_PER_PART)?;
     let scale = CoordinateFrame::from_object_bounds(asset.bounds()).distance_source_to_model(1.0);
     let labels = read_labels(dir);
