@@ -176,6 +176,7 @@ enum Judged {
     Concave { hull: Hull, frame: ComponentFrame },
 }
 
+/// Whether `component` needs V-HACD, and its hulls when it does not.
 fn judge(component: &TriMesh, params: &ConvexParams) -> Judged {
     if component.area() <= 0.0 {
         return Judged::Done(Vec::new());
