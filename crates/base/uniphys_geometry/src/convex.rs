@@ -104,7 +104,7 @@ pub fn convex_decompositions(
     let frames: Vec<&ComponentFrame> = judged
         .iter()
         .filter_map(|j| match j {
-            Judged::Concave { frame, .. } => Some(frame),
+            Judged::Concave { frame, .. } => Some(frame.as_ref()),
             Judged::Done(_) => None,
         })
         .collect();
@@ -173,7 +173,10 @@ enum Judged {
     /// Its hulls are known: none (no area), a slab (flat) or its own hull (nearly convex).
     Done(Vec<Hull>),
     /// Concave: V-HACD decomposes it in `frame`; `hull` is its single hull.
-    Concave { hull: Hull, frame: ComponentFrame },
+    Concave {
+        hull: Hull,
+        frame: Box<ComponentFrame>,
+    },
 }
 
 /// Whether `component` needs V-HACD, and its hulls when it does not.
@@ -198,7 +201,7 @@ fn judge(component: &TriMesh, params: &ConvexParams) -> Judged {
     }
     Judged::Concave {
         hull,
-        frame: ComponentFrame::of(component),
+        frame: Box::new(ComponentFrame::of(component)),
     }
 }
 

@@ -57,11 +57,13 @@ impl ComponentFrame {
         }
     }
 
-    fn to_object(&self, v: DVec3) -> DVec3 {
+    /// A point of this frame in the object frame.
+    fn object_point(&self, v: DVec3) -> DVec3 {
         self.centroid + self.box_from_object.transpose() * v
     }
 
-    fn from_object(&self, p: DVec3) -> DVec3 {
+    /// A point of the object frame in this frame.
+    fn frame_point(&self, p: DVec3) -> DVec3 {
         self.box_from_object * (p - self.centroid)
     }
 
@@ -91,7 +93,7 @@ impl ComponentFrame {
         let to_object = |vertices: &[Vec3]| -> Vec<DVec3> {
             vertices
                 .iter()
-                .map(|v| self.to_object(v.as_dvec3()))
+                .map(|v| self.object_point(v.as_dvec3()))
                 .collect()
         };
         let run = || {
@@ -123,7 +125,7 @@ impl ComponentFrame {
                     .mesh
                     .positions
                     .iter()
-                    .map(|p| self.to_object(from.from_object(*p)))
+                    .map(|p| self.object_point(from.frame_point(*p)))
                     .collect();
                 convex_hull(&corners).ok().map(Hull::new)
             })
