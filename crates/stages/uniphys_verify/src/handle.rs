@@ -13,7 +13,7 @@
 use uniphys_geometry::{Aabb, DVec3, KdTree};
 
 use crate::held::{farthest_from_line_m, mean};
-use crate::part_box::PartBox;
+use crate::part_box::{Boxed, PartBox};
 
 /// A part is a panel (a slab with an outer face that can carry a handle) when its thinnest box
 /// extent is below this share of its middle one.
@@ -47,18 +47,21 @@ pub(crate) fn is_panel(part: &PartBox) -> bool {
 /// the part is no panel (see [`PANEL_SLAB_RATIO`]) or nothing stands out of its face.
 #[must_use]
 pub fn panel_handle(points: &[DVec3], away: DVec3) -> Option<DVec3> {
-    standing_out(points, away).map(|s| mean(&s))
-}
-
-/// The samples of a handle standing out of a panel's outer face (see [`panel_handle`]).
-fn standing_out(points: &[DVec3], away: DVec3) -> Option<Vec<DVec3>> {
     if points.is_empty() {
         return None;
     }
-    let part = PartBox::of(points);
+    standing_out(points, &PartBox::of(points), away).map(|s| mean(&s))
+}
+
+/// The samples of a handle standing out of a panel's outer face (see [`panel_handle`]); `part`
+/// is the box of `points`.
+fn standing_out(points: &[DVec3], part: &PartBox, away: DVec3) -> Option<Vec<DVec3>> {
+    if points.is_empty() {
+        return None;
+    }
     let thin = part.thinnest_axis();
     // Only a slab has an outer face (not a cap, a knob).
-    if !is_panel(&part) {
+    if !is_panel(part) {
         return None;
     }
     let normal = if part.axes[thin].dot(away) < 0.0 {
@@ -165,22 +168,25 @@ const HANDLE_TOUCH_FRACTION: f64 = 0.01;
 /// touches the parent is a hinge or a fitting (a laptop's hinge cover).
 #[must_use]
 pub(crate) fn handle_reach_fraction(
-    child: &[DVec3],
-    group: &[DVec3],
+    child: &Boxed<'_>,
+    group: &Boxed<'_>,
     parent: &[DVec3],
     axis: DVec3,
     pivot: DVec3,
     away: DVec3,
 ) -> Option<f64> {
+    let (child, child_box) = (child.points, child.part_box());
+    let (group, group_box) = (group.points, group);
     if child.is_empty() {
         return None;
     }
     let axis = axis.normalize_or_zero();
-    if axis_across_panel(&PartBox::of(child), axis) {
+    if axis_across_panel(child_box, axis) {
         return None;
     }
-    let standing = standing_out(child, away)
-        .or_else(|| (group.len() > child.len()).then(|| standing_out(group, away))?)?;
+    let standing = standing_out(child, child_box, away).or_else(|| {
+        (group.len() > child.len()).then(|| standing_out(group, group_box.part_box(), away))?
+    })?;
     let touch_m = HANDLE_TOUCH_FRACTION * Aabb::from_points(group).diagonal();
     let parent = KdTree::new(parent.to_vec());
     if standing
@@ -207,9 +213,11 @@ pub(crate) fn handled_panel_spun(
     if child.is_empty() {
         return false;
     }
-    axis_across_panel(&PartBox::of(child), axis)
-        && (standing_out(child, away).is_some()
-            || (group.len() > child.len() && standing_out(group, away).is_some()))
+    let child_box = PartBox::of(child);
+    axis_across_panel(&child_box, axis)
+        && (standing_out(child, &child_box, away).is_some()
+            || (group.len() > child.len()
+                && standing_out(group, &PartBox::of(group), away).is_some()))
 }
 
 /// The median of `values` (reordered); 0 when empty.
@@ -332,8 +340,8 @@ mod tests {
         let parent = wall(&[]);
         let fraction = |x: f64| {
             handle_reach_fraction(
-                &points,
-                &points,
+                &Boxed::new(&points),
+                &Boxed::new(&points),
                 &parent,
                 DVec3::Z,
                 DVec3::new(x, 0.0, 0.0),
@@ -347,8 +355,14 @@ mod tests {
         let near = fraction(0.3).expect("a handle");
         assert!(near < 0.2, "{near}");
         // A spin about the door's normal is no hinge along its edge.
-        let spin =
-            handle_reach_fraction(&points, &points, &parent, DVec3::Y, DVec3::ZERO, -DVec3::Y);
+        let spin = handle_reach_fraction(
+            &Boxed::new(&points),
+            &Boxed::new(&points),
+            &parent,
+            DVec3::Y,
+            DVec3::ZERO,
+            -DVec3::Y,
+        );
         assert!(spin.is_none());
     }
 
@@ -358,8 +372,8 @@ mod tests {
         // The parent reaches round to touch the bar (a hinge cover seated in its base).
         let parent = wall(&[DVec3::new(0.25, -0.072, 0.4)]);
         let fraction = handle_reach_fraction(
-            &points,
-            &points,
+            &Boxed::new(&points),
+            &Boxed::new(&points),
             &parent,
             DVec3::Z,
             DVec3::new(0.3, 0.0, 0.0),

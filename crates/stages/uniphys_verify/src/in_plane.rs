@@ -16,7 +16,7 @@ use uniphys_geometry::{DVec3, box_axes};
 use crate::fit::spin_residual;
 use crate::handle::{axis_across_panel, is_panel};
 use crate::held::{mean, rest_contact_m};
-use crate::part_box::PartBox;
+use crate::part_box::{Boxed, PartBox};
 use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
 use crate::sweep::SweepParams;
@@ -46,7 +46,7 @@ pub struct InPlaneTurn {
 /// `touch_m` of a sample, the reach of a slot's far wall from a sample on the near face.
 pub(crate) fn in_plane_turn(
     scene: &Scene,
-    moving: &[DVec3],
+    moving: &Boxed<'_>,
     still: &[usize],
     axis: DVec3,
     pivot: DVec3,
@@ -54,7 +54,8 @@ pub(crate) fn in_plane_turn(
 ) -> Option<InPlaneTurn> {
     let axis = axis.normalize_or_zero();
     let part = panel_turned_across(moving, axis)?;
-    let (one_side, both_sides) = probe_faces(scene, moving, still, axis, &part, touch_m);
+    let moving = moving.points;
+    let (one_side, both_sides) = probe_faces(scene, moving, still, axis, part, touch_m);
     let probed = one_side + both_sides.len();
     Some(InPlaneTurn {
         residual: spin_residual(moving, axis, pivot),
@@ -82,14 +83,15 @@ pub fn held_pivots(
 ) -> Vec<DVec3> {
     let axis = axis.normalize_or_zero();
     let points = scene.points_of(moving);
-    let Some(part) = panel_turned_across(&points, axis) else {
+    let boxed = Boxed::new(&points);
+    let Some(part) = panel_turned_across(&boxed, axis) else {
         return Vec::new();
     };
     let still: Vec<usize> = (0..scene.part_count())
         .filter(|p| !moving.contains(p))
         .collect();
     let touch_m = rest_contact_m(params, part.diagonal, scene.diagonal_m);
-    let (_, held) = probe_faces(scene, &points, &still, axis, &part, touch_m);
+    let (_, held) = probe_faces(scene, &points, &still, axis, part, touch_m);
     if held.len() < HELD_SAMPLES_MIN {
         return Vec::new();
     }
@@ -100,12 +102,12 @@ pub fn held_pivots(
 
 /// The box of the moving group (sampled at `points`) when it is a panel and unit `axis` (zero
 /// for none) crosses its plane; `None` otherwise.
-fn panel_turned_across(points: &[DVec3], axis: DVec3) -> Option<PartBox> {
-    if points.len() < 3 || axis == DVec3::ZERO {
+fn panel_turned_across<'b>(points: &'b Boxed<'_>, axis: DVec3) -> Option<&'b PartBox> {
+    if points.points.len() < 3 || axis == DVec3::ZERO {
         return None;
     }
-    let part = PartBox::of(points);
-    (is_panel(&part) && axis_across_panel(&part, axis)).then_some(part)
+    let part = points.part_box();
+    (is_panel(part) && axis_across_panel(part, axis)).then_some(part)
 }
 
 /// Probes up to [`PROBE_SAMPLES_MAX`] of the panel's samples along `axis` both ways for a

@@ -1,6 +1,29 @@
 //! A part's box along its own box axes, from its surface samples.
 
+use std::cell::OnceCell;
+
 use uniphys_geometry::{DVec3, OrientedBox, box_axes, projection_range};
+
+/// Samples with their box, found at most once however many rules of a sweep ask for it (a box
+/// search is a convex hull and a rotating search).
+pub(crate) struct Boxed<'a> {
+    pub(crate) points: &'a [DVec3],
+    part_box: OnceCell<PartBox>,
+}
+
+impl<'a> Boxed<'a> {
+    pub(crate) fn new(points: &'a [DVec3]) -> Self {
+        Self {
+            points,
+            part_box: OnceCell::new(),
+        }
+    }
+
+    /// [`PartBox::of`] the samples.
+    pub(crate) fn part_box(&self) -> &PartBox {
+        self.part_box.get_or_init(|| PartBox::of(self.points))
+    }
+}
 
 /// A part's box: axes, projection ranges, centre and diagonal (object frame, metres).
 #[derive(Debug, Clone, PartialEq)]

@@ -13,6 +13,7 @@ use crate::held::{
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
+use crate::part_box::Boxed;
 use crate::patch::{PatchParams, PosedTree, grow_patch};
 use crate::scene::Scene;
 use crate::slot::walled_sides;
@@ -401,10 +402,21 @@ pub fn sweep(
     // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
     // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
     // exactly on the knob's own axis.
+    // The moving group's box and its part's (the same when it carries nothing), found once for
+    // the rules below.
+    let moving_boxed = Boxed::new(&moving_points);
+    let child_points = &scene.samples[joint.child.0 as usize];
+    let child_own;
+    let child_boxed = if moving == [joint.child.0 as usize] {
+        &moving_boxed
+    } else {
+        child_own = Boxed::new(child_points);
+        &child_own
+    };
     if joint.kind == JointKind::Revolute {
         metrics.in_plane_turn = in_plane_turn(
             scene,
-            &moving_points,
+            &moving_boxed,
             &still,
             motion.axis_in_object,
             motion.pivot_in_object_m,
@@ -412,11 +424,10 @@ pub fn sweep(
         );
     }
     if joint.kind != JointKind::Prismatic {
-        let child = &scene.samples[joint.child.0 as usize];
         let away = mean(&moving_points) - mean(parent_points);
         metrics.handle_reach_fraction = handle_reach_fraction(
-            child,
-            &moving_points,
+            child_boxed,
+            &moving_boxed,
             parent_points,
             motion.axis_in_object,
             motion.pivot_in_object_m,
