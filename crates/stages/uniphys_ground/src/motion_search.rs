@@ -139,9 +139,6 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     let parent_diagonal = Aabb::from_points(&parent_points).diagonal();
     let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
     let spin = spin_axis(scene, mover.child, &child_points, part, inward);
-    if let (Some(sp), true) = (spin, std::env::var_os("UNIPHYS_PROBE").is_some()) {
-        probe_round(scene, mover, &child_points, sp, inward, small);
-    }
     if let Some(spin) = spin.filter(|s| !small || s.length_over_width >= COIN_RATIO) {
         return Motion {
             joint: Some(joint(
@@ -570,61 +567,4 @@ pub(crate) fn joint(
     why: String,
 ) -> Joint {
     builtin_joint(kind, (mover.parent, mover.child), axis, pivot, upper, why)
-}
-
-fn probe_round(
-    scene: &Scene,
-    mover: &Mover<'_>,
-    child_points: &[DVec3],
-    sp: crate::spin::Spin,
-    inward: DVec3,
-    small: bool,
-) {
-    let a = if sp.axis.dot(inward) < 0.0 {
-        -sp.axis
-    } else {
-        sp.axis
-    };
-    let (lo, hi) = projection_range(child_points, a);
-    let depth = hi - lo;
-    let (u, v) = crate::spin::across(a);
-    let centre = sp.centre - a * sp.centre.dot(a);
-    let radius = child_points
-        .iter()
-        .map(|p| (*p - sp.centre).reject_from_normalized(a).length())
-        .fold(0.0, f64::max);
-    // depth levels from front (lo) to 0.2 depth beyond back (hi)
-    let mut profile = String::new();
-    let mut total = 0usize;
-    let mut present = 0usize;
-    for k in 0..=12 {
-        let t = lo + depth * (k as f64 / 10.0);
-        let mut here = 0;
-        let mut n = 0;
-        for ring in [0.15, 0.4, 0.65, 0.85] {
-            for s in 0..12 {
-                let ang = s as f64 * std::f64::consts::TAU / 12.0;
-                let p = centre + a * t + (u * ang.cos() + v * ang.sin()) * (ring * radius);
-                n += 1;
-                if scene.distance_to_surface_m(mover.parent, p) <= 0.08 * radius {
-                    here += 1;
-                }
-            }
-        }
-        total += n;
-        present += here;
-        profile += &format!("{:.0} ", 100.0 * here as f64 / n as f64);
-    }
-    eprintln!(
-        "PROBE child {} parent {} small {} l/w {:.2} kept {:.2} R {:.4} depth {:.4} disc-presence {:.2} profile(front->back+20%) {}",
-        mover.child,
-        mover.parent,
-        small,
-        sp.length_over_width,
-        sp.kept_fraction,
-        radius,
-        depth,
-        present as f64 / total as f64,
-        profile
-    );
 }

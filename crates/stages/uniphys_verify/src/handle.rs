@@ -175,19 +175,18 @@ pub(crate) fn handle_reach_fraction(
     pivot: DVec3,
     away: DVec3,
 ) -> Option<f64> {
-    let (child, child_box) = (child.points, child.part_box());
-    let (group, group_box) = (group.points, group);
-    if child.is_empty() {
+    if child.points.is_empty() {
         return None;
     }
     let axis = axis.normalize_or_zero();
-    if axis_across_panel(child_box, axis) {
+    if axis_across_panel(child.part_box(), axis) {
         return None;
     }
-    let standing = standing_out(child, child_box, away).or_else(|| {
-        (group.len() > child.len()).then(|| standing_out(group, group_box.part_box(), away))?
+    let standing = standing_out(child.points, child.part_box(), away).or_else(|| {
+        (group.points.len() > child.points.len())
+            .then(|| standing_out(group.points, group.part_box(), away))?
     })?;
-    let touch_m = HANDLE_TOUCH_FRACTION * Aabb::from_points(group).diagonal();
+    let touch_m = HANDLE_TOUCH_FRACTION * Aabb::from_points(group.points).diagonal();
     let parent = KdTree::new(parent.to_vec());
     if standing
         .iter()
@@ -196,7 +195,7 @@ pub(crate) fn handle_reach_fraction(
         return None;
     }
     let off_line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
-    let reach = farthest_from_line_m(group, pivot, axis);
+    let reach = farthest_from_line_m(group.points, pivot, axis);
     (reach > 0.0).then(|| off_line(mean(&standing)) / reach)
 }
 

@@ -399,9 +399,6 @@ pub fn sweep(
         _ => 0.0,
     };
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
-    // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
-    // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
-    // exactly on the knob's own axis.
     // The moving group's box and its part's (the same when it carries nothing), found once for
     // the rules below.
     let moving_boxed = Boxed::new(&moving_points);
@@ -413,6 +410,9 @@ pub fn sweep(
         child_own = Boxed::new(child_points);
         &child_own
     };
+    // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
+    // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
+    // exactly on the knob's own axis.
     if joint.kind == JointKind::Revolute {
         metrics.in_plane_turn = in_plane_turn(
             scene,
