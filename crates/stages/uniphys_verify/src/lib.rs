@@ -3,7 +3,8 @@
 //! - intrinsic checks per part and object, levels 0-4 of the reference ([`verify_intrinsic`]);
 //! - articulation sweeps: each joint moved through its range; contact with its parent, the
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
-//!   gap to its parent and its direction against the face it sits on, a turning axis held by
+//!   gap to its parent, its direction against the face it sits on and which way it goes (into
+//!   a face around it, off a parent it caps: [`SlideSide`]), a turning axis held by
 //!   its part, a panel's hinge away from its handle ([`panel_handle`]), a panel turned in its
 //!   own plane only when round or held across both faces ([`InPlaneTurn`]), nothing taken
 //!   below the ground the object stands on (when it rests on one: `ground`), and interpenetration of convex colliders (a
@@ -42,6 +43,7 @@ mod penetration;
 mod plausibility;
 mod rounded_ends;
 mod scene;
+mod slide_side;
 mod slot;
 mod sweep;
 mod verdict;
@@ -63,4 +65,5 @@ pub use patch::{PatchParams, grow_patch};
 pub use plausibility::plausibility_checks;
 pub use rounded_ends::rounded_end_pivots;
 pub use scene::{Scene, moving_group};
+pub use slide_side::SlideSide;
 pub use sweep::{SweepMetrics, SweepParams, sweep};

@@ -16,6 +16,7 @@ use crate::motion::{JointMotion, sweep_coordinates};
 use crate::part_box::Boxed;
 use crate::patch::{PatchParams, PosedTree, grow_patch};
 use crate::scene::Scene;
+use crate::slide_side::{SlideSide, slide_side};
 use crate::slot::walled_sides;
 use crate::{VerifyError, VerifyResult};
 
@@ -56,6 +57,13 @@ pub struct SweepParams {
     /// How far a short slide's moving group may move away from its parent beyond its gap at
     /// rest, as a fraction of the group's diagonal.
     pub short_slide_gap_fraction: f64,
+    /// A short slide of a part that its parent's face surrounds in at least this share of the
+    /// directions around its axis (a button set into a face) must go toward its parent: it is
+    /// at its outer stop at rest (true buttons of real objects: 0.81 to 1) ...
+    pub short_slide_surround_min: f64,
+    /// ... and one surrounded in at most this share (a lid capping its parent's end) must go
+    /// away from it: it lifts off (true lids of real objects: 0 to 0.13).
+    pub short_slide_capping_max: f64,
     /// A short slide presses into (or lifts off) the face it sits on, or slides along walls
     /// that guide it. Where its moving samples touch the parent at rest (within
     /// `rest_contact_part_fraction` of the group's diagonal), the parent's surface normals give
@@ -125,6 +133,8 @@ impl Default for SweepParams {
             short_slide_gap_fraction: 0.1,
             hinge_off_part_fraction: 0.1,
             short_slide_press_min: 0.5,
+            short_slide_surround_min: 0.75,
+            short_slide_capping_max: 0.25,
             short_slide_guidance_min: 0.15,
             hinge_handle_fraction_min: 0.4,
             long_slide_walled_sides_min: 2,
@@ -225,6 +235,9 @@ pub struct SweepMetrics {
     /// Hinges (revolute) whose moving parts are a panel turned about its own normal: how round
     /// it is about the axis and how it is held across its faces; `None` otherwise.
     pub in_plane_turn: Option<InPlaneTurn>,
+    /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
+    /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
+    pub short_slide_side: Option<SlideSide>,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -256,8 +269,9 @@ pub struct SweepMetrics {
 ///
 /// Measured at rest, for the physical sense of the joint: a turning axis's distance from the
 /// moving parts (a hinge is held by its part), where a panel's handle lies from a hinge along its
-/// edge ([`crate::panel_handle`]), and how a short slide meets the surface it touches (pressing
-/// into a face or guided by walls, from the parent's triangle normals there).
+/// edge ([`crate::panel_handle`]), how a short slide meets the surface it touches (pressing
+/// into a face or guided by walls, from the parent's triangle normals there) and which way it
+/// goes (a button into the face around it, a lid off the parent it caps: [`SlideSide`]).
 ///
 /// Errors: a fixed joint, a joint without limits (other than continuous), parts out of range.
 pub fn sweep(
@@ -385,6 +399,7 @@ pub fn sweep(
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
         in_plane_turn: None,
+        short_slide_side: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
@@ -444,6 +459,21 @@ pub fn sweep(
         if let Some(tensor) = contact_normal_tensor(scene, parent, &moving_points, touch_m) {
             (metrics.short_slide_press, metrics.short_slide_guidance) =
                 slide_against_contact(tensor, motion.axis_in_object);
+        }
+        if matches!(short_slide, Some(Some(_))) {
+            let touching: Vec<DVec3> = moving_points
+                .iter()
+                .filter(|p| scene.surfaces.distance_m(parent, **p) <= touch_m)
+                .copied()
+                .collect();
+            metrics.short_slide_side = slide_side(
+                scene,
+                parent,
+                &moving_points,
+                &touching,
+                motion.axis_in_object,
+                (lower, upper),
+            );
         }
     }
     let mut crossings = Crossings::new(

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use uniphys_types::JointKind;
 
 use crate::in_plane::InPlaneTurn;
+use crate::slide_side::SlideSide;
 use crate::sweep::{SweepMetrics, SweepParams};
 
 impl SweepMetrics {
@@ -99,6 +100,21 @@ impl SweepMetrics {
                 params.short_slide_guidance_min
             ));
         }
+        if let Some(side) = self.short_slide_wrong_way(params) {
+            reasons.push(if side.away > 0.0 {
+                format!(
+                    "a short slide pulls its part out of the face around it (surrounded in {:.0} % of the directions, at least {:.0} %): a button is pressed in, toward its parent",
+                    100.0 * side.surround_share,
+                    100.0 * params.short_slide_surround_min
+                )
+            } else {
+                format!(
+                    "a short slide pushes its part into the parent it caps (surrounded in {:.0} % of the directions, at most {:.0} %): a lid lifts off, away from its parent",
+                    100.0 * side.surround_share,
+                    100.0 * params.short_slide_capping_max
+                )
+            });
+        }
         if self.long_slide_unheld(params) {
             reasons.push(format!(
                 "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and it presses into the face it sits on {:.2} (at least {:.2})",
@@ -143,8 +159,8 @@ impl SweepMetrics {
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
     /// clear of the part, a hinge at its handle, a panel spun in its own plane, a short slide
-    /// across its face; a long slide in no slot counts 2.5. 10 without contact at rest. At most
-    /// 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
+    /// across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
+    /// without contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
     /// allowed one, the axis's distance from the part over the allowed one, the least handle
     /// distance over the handle's), so a press is preferred to a pull and a hinge across the
     /// part from its handle to one beside it.
@@ -189,7 +205,7 @@ impl SweepMetrics {
         if let Some(turn) = self.spun_in_plane(params) {
             s = s.max(2.0 + turn.residual / params.in_plane_round_max.max(1e-12));
         }
-        if self.long_slide_unheld(params) {
+        if self.long_slide_unheld(params) || self.short_slide_wrong_way(params).is_some() {
             s = s.max(2.5);
         }
         if self.kind == JointKind::Revolute {
@@ -260,6 +276,15 @@ impl SweepMetrics {
         self.short_slide_gap_max_m > 0.0
             && self.short_slide_press < params.short_slide_press_min
             && self.short_slide_guidance < params.short_slide_guidance_min
+    }
+
+    /// A short slide goes the wrong way: out of a face that surrounds its part, or into the
+    /// parent its part caps.
+    fn short_slide_wrong_way(&self, params: &SweepParams) -> Option<SlideSide> {
+        self.short_slide_side.filter(|side| {
+            (side.surround_share >= params.short_slide_surround_min && side.away > 0.0)
+                || (side.surround_share <= params.short_slide_capping_max && side.away < 0.0)
+        })
     }
 
     /// A long slide runs in no slot and does not lift off the face it sits on.
@@ -340,6 +365,12 @@ impl SweepMetrics {
                 [
                     ("in_plane_residual".to_owned(), t.residual),
                     ("in_plane_sandwiched_share".to_owned(), t.sandwiched_share),
+                ]
+            }))
+            .chain(self.short_slide_side.into_iter().flat_map(|s| {
+                [
+                    ("short_slide_surround_share".to_owned(), s.surround_share),
+                    ("short_slide_away".to_owned(), s.away),
                 ]
             }))
             .collect()

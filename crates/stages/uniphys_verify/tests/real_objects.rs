@@ -249,6 +249,26 @@ fn a_button_slid_across_its_face_is_caught() {
     }
 }
 
+// A button set into a face is pressed in; a lid capping its parent lifts off. Either one sent
+// the other way crossed nothing (a button pulled out, a lid sunk into its pot's opening) and
+// passed before the sweep read which side of its parent the part sits on.
+#[test]
+fn a_button_pulled_out_of_its_face_is_caught_and_reversed() {
+    let o = object("kitchen-101921");
+    let button = o
+        .movable()
+        .into_iter()
+        .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Prismatic)
+        .expect("the oven has a button");
+    o.assert_reversal_caught_and_undone(button, "pulls its part out of the face around it");
+}
+
+#[test]
+fn a_pot_lid_pushed_into_its_pot_is_caught_and_reversed() {
+    let o = object("kitchen-100038");
+    o.assert_reversal_caught_and_undone(o.movable()[0], "pushes its part into the parent it caps");
+}
+
 #[test]
 fn a_door_turned_about_a_line_clear_of_it_is_caught() {
     // The true pivot of this cabinet's door lies on its hinge line, 0.84 door heights above the

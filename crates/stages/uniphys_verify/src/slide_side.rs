@@ -1,0 +1,97 @@
+//! Which way a short slide goes (reference: real-articulated-objects.md, "Push": a small part
+//! protruding from or flush with a face of its parent, moving along that face's normal).
+//!
+//! A part set into a face of its parent that continues around it on every side (a button, a
+//! key) is at its outer stop at rest: it is pressed in, toward its parent. A part that caps its
+//! parent's end, with no face of the parent around it (a lid on a pot, a cap on a jar), lifts
+//! off, away from its parent. Both are read at rest, from the parent's own triangles around the
+//! part's outline where the two meet.
+
+use std::f64::consts::TAU;
+
+use uniphys_geometry::DVec3;
+
+use crate::held::mean;
+use crate::scene::Scene;
+
+/// Directions around the slide's axis in which the parent's surface is looked for.
+const DIRECTIONS: usize = 16;
+/// The parent is looked for this far from the axis, a multiple of the part's largest distance
+/// from it (just outside its outline) ...
+const PROBE_RADIUS_RATIO: f64 = 1.3;
+/// ... within this much of the part's radius either side of the level where the two touch.
+const PROBE_HALF_DEPTH_RATIO: f64 = 0.3;
+/// The part's middle must lie at least this share of the parent's extent along the axis from
+/// the parent's middle for the slide's away side to be read from them.
+const AWAY_OFFSET_FRACTION_MIN: f64 = 0.05;
+
+/// How a short slide's part sits on its parent, measured at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlideSide {
+    /// Share of the directions around the axis in which the parent's surface continues just
+    /// outside the part's outline, at the level where they touch (1: a face around a button; 0:
+    /// a lid capping its parent's end).
+    pub surround_share: f64,
+    /// +1 when the slide takes the part away from its parent (the part's middle lies on the
+    /// positive side of the parent's middle along the travel), -1 toward it, 0 when the two
+    /// middles are level along the axis and the side cannot be read.
+    pub away: f64,
+}
+
+/// The side of the short slide along unit `axis` (travel `lower..upper`, the larger side
+/// counting) of the `moving` samples on `parent`, where `touching` are the moving samples
+/// within contact distance of the parent at rest; `None` without such samples.
+pub(crate) fn slide_side(
+    scene: &Scene,
+    parent: usize,
+    moving: &[DVec3],
+    touching: &[DVec3],
+    axis: DVec3,
+    (lower, upper): (f64, f64),
+) -> Option<SlideSide> {
+    let axis = axis.normalize_or_zero();
+    if touching.is_empty() || moving.is_empty() || axis == DVec3::ZERO {
+        return None;
+    }
+    let centre = mean(moving);
+    let radius_m = moving
+        .iter()
+        .map(|p| (*p - centre).reject_from_normalized(axis).length())
+        .fold(0.0, f64::max);
+    if radius_m <= 0.0 {
+        return None;
+    }
+    let level = (mean(touching) - centre).dot(axis);
+    let u = axis.any_orthonormal_vector();
+    let v = axis.cross(u);
+    let half_depth = PROBE_HALF_DEPTH_RATIO * radius_m;
+    let surrounded = (0..DIRECTIONS)
+        .filter(|&k| {
+            let angle = TAU * k as f64 / DIRECTIONS as f64;
+            let out = u * angle.cos() + v * angle.sin();
+            let at = centre + out * (PROBE_RADIUS_RATIO * radius_m) + axis * level;
+            scene
+                .surfaces
+                .crossing(parent, at + axis * half_depth, at - axis * half_depth)
+                .is_some()
+        })
+        .count();
+    let parent_points = &scene.samples[parent];
+    let offset = (centre - mean(parent_points)).dot(axis);
+    let (lo, hi) = parent_points
+        .iter()
+        .map(|p| p.dot(axis))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+            (lo.min(t), hi.max(t))
+        });
+    let travel_sign = if upper >= -lower { 1.0 } else { -1.0 };
+    let away = if offset.abs() >= AWAY_OFFSET_FRACTION_MIN * (hi - lo).max(0.0) {
+        travel_sign * offset.signum()
+    } else {
+        0.0
+    };
+    Some(SlideSide {
+        surround_share: surrounded as f64 / DIRECTIONS as f64,
+        away,
+    })
+}
