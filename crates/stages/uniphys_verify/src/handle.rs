@@ -6,11 +6,11 @@
 //! of the cells around it. A bulge or a curve rises with its neighbours and is not a handle; a
 //! bar across the whole width still is, since it fills only a row of the neighbourhood.
 //!
-//! A hinge along a panel's edge lies across the panel from its handle: the verifier's sweep
-//! measures the handle's distance from the axis ([`handle_reach_fraction`]), and the grounder
+//! A hinge along a panel's edge lies across the panel from its handle, and a bar handle runs
+//! along the hinge: the verifier's sweep measures both ([`handle_on_hinge`]), and the grounder
 //! places hinges with [`panel_handle`].
 
-use uniphys_geometry::{Aabb, DVec3, KdTree};
+use uniphys_geometry::{Aabb, DVec3, KdTree, principal_axes, projection_range};
 
 use crate::held::{farthest_from_line_m, mean};
 use crate::part_box::{Boxed, PartBox};
@@ -158,8 +158,24 @@ pub(crate) fn axis_across_panel(part: &PartBox, axis: DVec3) -> bool {
 /// handles of real objects: at least 3 %).
 const HANDLE_TOUCH_FRACTION: f64 = 0.01;
 
-/// How far a panel's handle lies from a hinge line through `pivot` along `axis`, as a share of
-/// the moving parts' reach from that line (1: at the far edge). The handle of the part itself
+/// A handle whose length is at least this many times its width is a bar (a door's or an oven's
+/// pull; the bars on the doors of real objects: 3 to 52 times); shorter ones are knobs or pads,
+/// which have no direction.
+const BAR_ELONGATION_MIN: f64 = 3.0;
+
+/// A panel's handle seen from a hinge line.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct HandleOnHinge {
+    /// How far the handle's middle lies from the line, a share of the moving parts' reach from
+    /// it (1: at the far edge).
+    pub reach_fraction: f64,
+    /// For a bar ([`BAR_ELONGATION_MIN`]): the |cosine| between its length and the line (1: it
+    /// runs along the hinge, as the bars of real doors do); `None` for a knob or a pad.
+    pub bar_axis_cos: Option<f64>,
+}
+
+/// Where a panel's handle lies from a hinge line through `pivot` along `axis`: its share of the
+/// moving parts' reach from that line, and how a bar runs against the line. The handle of the part itself
 /// (`child`: its samples) comes first, then that of the whole moving group (`group`: the part
 /// and what it carries, such as a handle fixed to a door). `None` when the part is no panel, the
 /// axis does not run along the panel's plane, nothing stands out of its outer face (turned along
@@ -167,14 +183,14 @@ const HANDLE_TOUCH_FRACTION: f64 = 0.01;
 /// [`HANDLE_TOUCH_FRACTION`] of the moving parts' diagonal): a handle is free to grip, what
 /// touches the parent is a hinge or a fitting (a laptop's hinge cover).
 #[must_use]
-pub(crate) fn handle_reach_fraction(
+pub(crate) fn handle_on_hinge(
     child: &Boxed<'_>,
     group: &Boxed<'_>,
     parent: &[DVec3],
     axis: DVec3,
     pivot: DVec3,
     away: DVec3,
-) -> Option<f64> {
+) -> Option<HandleOnHinge> {
     if child.points.is_empty() {
         return None;
     }
@@ -196,7 +212,21 @@ pub(crate) fn handle_reach_fraction(
     }
     let off_line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
     let reach = farthest_from_line_m(group.points, pivot, axis);
-    (reach > 0.0).then(|| off_line(mean(&standing)) / reach)
+    (reach > 0.0).then(|| HandleOnHinge {
+        reach_fraction: off_line(mean(&standing)) / reach,
+        bar_axis_cos: bar_direction(&standing).map(|d| d.dot(axis).abs()),
+    })
+}
+
+/// The unit direction a handle's samples run along when they form a bar (their longest extent
+/// at least [`BAR_ELONGATION_MIN`] times the next); `None` otherwise.
+fn bar_direction(handle: &[DVec3]) -> Option<DVec3> {
+    let [length, width, _] = principal_axes(handle);
+    let extent = |d: DVec3| {
+        let (lo, hi) = projection_range(handle, d);
+        hi - lo
+    };
+    (extent(length) >= BAR_ELONGATION_MIN * extent(width)).then_some(length)
 }
 
 /// Whether a panel with a handle (the part itself sampled at `child`, or with what it carries,
@@ -338,7 +368,7 @@ mod tests {
         let points = door_with_side_bar();
         let parent = wall(&[]);
         let fraction = |x: f64| {
-            handle_reach_fraction(
+            handle_on_hinge(
                 &Boxed::new(&points),
                 &Boxed::new(&points),
                 &parent,
@@ -346,6 +376,7 @@ mod tests {
                 DVec3::new(x, 0.0, 0.0),
                 -DVec3::Y,
             )
+            .map(|h| h.reach_fraction)
         };
         // Hinged on the left edge, the handle is at 0.55 of the 0.6 reach.
         let far = fraction(-0.3).expect("a handle");
@@ -354,7 +385,7 @@ mod tests {
         let near = fraction(0.3).expect("a handle");
         assert!(near < 0.2, "{near}");
         // A spin about the door's normal is no hinge along its edge.
-        let spin = handle_reach_fraction(
+        let spin = handle_on_hinge(
             &Boxed::new(&points),
             &Boxed::new(&points),
             &parent,
@@ -366,11 +397,33 @@ mod tests {
     }
 
     #[test]
+    fn a_bar_handle_runs_along_its_hinge() {
+        let points = door_with_side_bar();
+        let parent = wall(&[]);
+        let bar_cos = |axis: DVec3, pivot: DVec3| {
+            handle_on_hinge(
+                &Boxed::new(&points),
+                &Boxed::new(&points),
+                &parent,
+                axis,
+                pivot,
+                -DVec3::Y,
+            )
+            .and_then(|h| h.bar_axis_cos)
+            .expect("a bar")
+        };
+        // The vertical bar along the door's vertical hinge on its left edge ...
+        assert!(bar_cos(DVec3::Z, DVec3::new(-0.3, 0.0, 0.0)) > 0.99);
+        // ... and across a hinge along its bottom edge.
+        assert!(bar_cos(DVec3::X, DVec3::ZERO) < 0.05);
+    }
+
+    #[test]
     fn what_stands_out_against_the_parent_is_no_handle() {
         let points = door_with_side_bar();
         // The parent reaches round to touch the bar (a hinge cover seated in its base).
         let parent = wall(&[DVec3::new(0.25, -0.072, 0.4)]);
-        let fraction = handle_reach_fraction(
+        let fraction = handle_on_hinge(
             &Boxed::new(&points),
             &Boxed::new(&points),
             &parent,

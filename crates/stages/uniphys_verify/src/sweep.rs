@@ -6,7 +6,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
-use crate::handle::handle_reach_fraction;
+use crate::handle::handle_on_hinge;
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
     rest_contact_m, slide_against_contact, slide_touch_m,
@@ -78,6 +78,11 @@ pub struct SweepParams {
     /// share of the panel's reach from the axis: the handle is near the free edge (true hinges
     /// of real objects: at least 0.47; moved to the opposite edge: at most 0.35).
     pub hinge_handle_fraction_min: f64,
+    /// A hinge (revolute) along a panel's edge fails when the panel's bar handle runs across it:
+    /// the |cosine| between the bar and the axis below this (the bars on true hinges of real
+    /// objects: 0.7 to 1; hinges turned a quarter: at most 0.04). A door's pull runs along its
+    /// hinge, a side-hinged door's upright and an oven door's level.
+    pub hinge_bar_cos_min: f64,
     /// A long slide (a drawer) runs in a slot: its parent walls it in on at least this many of
     /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
     /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
@@ -137,6 +142,7 @@ impl Default for SweepParams {
             short_slide_capping_max: 0.25,
             short_slide_guidance_min: 0.15,
             hinge_handle_fraction_min: 0.4,
+            hinge_bar_cos_min: 0.5,
             long_slide_walled_sides_min: 2,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
@@ -215,6 +221,9 @@ pub struct SweepMetrics {
     /// Turning joints along a panel's edge: how far the panel's handle lies from the axis, a
     /// share of the moving parts' reach from it; `None` without such a handle.
     pub handle_reach_fraction: Option<f64>,
+    /// Turning joints along a panel's edge whose handle is a bar: the |cosine| between the bar's
+    /// length and the axis (1: along it); `None` without such a bar.
+    pub handle_bar_axis_cos: Option<f64>,
     /// Largest contact threshold a step may need before it counts as contact lost, metres.
     pub contact_reach_m: f64,
     /// Short slides: the largest growth over the sweep of the gap between the moving group and
@@ -391,6 +400,7 @@ pub fn sweep(
         hinge_to_part_m,
         hinge_to_part_max_m,
         handle_reach_fraction: None,
+        handle_bar_axis_cos: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
         short_slide_gap_growth_m: 0.0,
@@ -440,7 +450,7 @@ pub fn sweep(
     }
     if joint.kind != JointKind::Prismatic {
         let away = mean(&moving_points) - mean(parent_points);
-        metrics.handle_reach_fraction = handle_reach_fraction(
+        let handle = handle_on_hinge(
             child_boxed,
             &moving_boxed,
             parent_points,
@@ -448,6 +458,8 @@ pub fn sweep(
             motion.pivot_in_object_m,
             away,
         );
+        metrics.handle_reach_fraction = handle.map(|h| h.reach_fraction);
+        metrics.handle_bar_axis_cos = handle.and_then(|h| h.bar_axis_cos);
     }
     // A long slide (a slide that is not short) must run in a slot of its parent.
     if short_slide == Some(None) {

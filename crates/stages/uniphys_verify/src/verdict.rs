@@ -67,6 +67,13 @@ impl SweepMetrics {
                 params.hinge_handle_fraction_min
             ));
         }
+        if let Some(cos) = self.hinge_across_bar(params) {
+            reasons.push(format!(
+                "hinged across its handle's bar: the bar runs {:.0} degrees from the axis (at most {:.0}); a door's pull runs along its hinge",
+                cos.clamp(0.0, 1.0).acos().to_degrees(),
+                params.hinge_bar_cos_min.clamp(0.0, 1.0).acos().to_degrees()
+            ));
+        }
         if self.hinge_lost_contact() {
             reasons.push(format!(
                 "hinge lost contact with its parent in {} of {} steps",
@@ -158,8 +165,8 @@ impl SweepMetrics {
     /// joint counts 1 plus ten times its share of steps, a severe overlap change 1 plus five
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
-    /// clear of the part, a hinge at its handle, a panel spun in its own plane, a short slide
-    /// across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
+    /// clear of the part, a hinge at its handle or across its bar, a panel spun in its own
+    /// plane, a short slide across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
     /// without contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
     /// allowed one, the axis's distance from the part over the allowed one, the least handle
     /// distance over the handle's), so a press is preferred to a pull and a hinge across the
@@ -201,6 +208,9 @@ impl SweepMetrics {
         }
         if let Some(f) = self.hinge_at_handle(params) {
             s = s.max(3.0 - f / params.hinge_handle_fraction_min);
+        }
+        if let Some(cos) = self.hinge_across_bar(params) {
+            s = s.max(3.0 - cos / params.hinge_bar_cos_min.max(1e-12));
         }
         if let Some(turn) = self.spun_in_plane(params) {
             s = s.max(2.0 + turn.residual / params.in_plane_round_max.max(1e-12));
@@ -250,6 +260,12 @@ impl SweepMetrics {
     fn hinge_at_handle(&self, params: &SweepParams) -> Option<f64> {
         self.handle_reach_fraction
             .filter(|&f| f < params.hinge_handle_fraction_min)
+    }
+
+    /// The |cosine| between a hinge and its panel's bar handle when the bar runs across it.
+    fn hinge_across_bar(&self, params: &SweepParams) -> Option<f64> {
+        self.handle_bar_axis_cos
+            .filter(|&cos| self.kind == JointKind::Revolute && cos < params.hinge_bar_cos_min)
     }
 
     /// A hinge spins a panel in its own plane that is neither round about the axis nor held
@@ -360,6 +376,10 @@ impl SweepMetrics {
             .chain(
                 self.handle_reach_fraction
                     .map(|f| ("handle_reach_fraction".to_owned(), f)),
+            )
+            .chain(
+                self.handle_bar_axis_cos
+                    .map(|c| ("handle_bar_axis_cos".to_owned(), c)),
             )
             .chain(self.in_plane_turn.into_iter().flat_map(|t| {
                 [

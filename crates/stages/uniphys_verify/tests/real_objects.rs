@@ -269,6 +269,15 @@ fn a_pot_lid_pushed_into_its_pot_is_caught_and_reversed() {
     o.assert_reversal_caught_and_undone(o.movable()[0], "pushes its part into the parent it caps");
 }
 
+// A door turned a quarter about a point of its hinge line swings like a flap along its bottom
+// edge, freely and with its handle halfway out: only the handle's bar, which runs along the
+// true hinge, tells the two apart.
+#[test]
+fn a_cabinet_door_hinged_across_its_bar_handle_is_caught_and_hinged_along_it() {
+    let o = object("kitchen-46197");
+    o.assert_sideways_caught_and_restored(o.movable()[0], "hinged across its handle's bar");
+}
+
 #[test]
 fn a_door_turned_about_a_line_clear_of_it_is_caught() {
     // The true pivot of this cabinet's door lies on its hinge line, 0.84 door heights above the
