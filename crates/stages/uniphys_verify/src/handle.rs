@@ -153,6 +153,23 @@ pub(crate) fn axis_across_panel(part: &PartBox, axis: DVec3) -> bool {
         > IN_PLANE_COS_MAX
 }
 
+/// A panel is broad when its middle box extent is at least this share of its longest (a door,
+/// a lid, a screen; not a lever or a blade) ...
+const BROAD_RATIO: f64 = 0.3;
+/// ... and a sheet when its surface covers at least this share of its box's two broad faces (not
+/// a wire such as a bucket's handle).
+const SHEET_FILL_MIN: f64 = 0.3;
+
+/// Whether a part (its box `part`, its surface `area_m2`) is a broad sheet: a panel
+/// ([`is_panel`]) that is broad and whose surface fills its broad faces (a door, a lid, a
+/// laptop's screen).
+pub(crate) fn is_broad_sheet(part: &PartBox, area_m2: f64) -> bool {
+    let [_, middle, longest] = part.sorted_extents();
+    is_panel(part)
+        && middle >= BROAD_RATIO * longest
+        && area_m2 >= SHEET_FILL_MIN * 2.0 * middle * longest
+}
+
 /// What stands out of a panel's face within this share of the moving parts' diagonal of its
 /// parent touches it: a hinge or a fitting, not a handle (a laptop's hinge cover: 0.2 %; door
 /// handles of real objects: at least 3 %).

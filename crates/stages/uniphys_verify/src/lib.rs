@@ -5,7 +5,7 @@
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
 //!   gap to its parent, its direction against the face it sits on and which way it goes (into
 //!   a face around it, off a parent it caps: [`SlideSide`]), a turning axis held by
-//!   its part, a panel's hinge away from its handle and along a bar handle ([`panel_handle`]), a panel turned in its
+//!   its part, a panel's hinge away from its handle and along a bar handle ([`panel_handle`]), a sheet held along an edge hinged where it meets its parent, a panel turned in its
 //!   own plane only when round or held across both faces ([`InPlaneTurn`]), nothing taken
 //!   below the ground the object stands on (when it rests on one: `ground`), and interpenetration of convex colliders (a
 //!   measure for grounders) ([`sweep`], [`Scene`]); the verdict on a

@@ -1,12 +1,12 @@
 //! The articulation sweep (reference 12, kinematic): move a joint through its range and measure
 //! contact with the parent and interpenetration with everything that stays still.
 
-use uniphys_geometry::{Aabb, DVec3, KdTree};
+use uniphys_geometry::{Aabb, DVec3, KdTree, principal_axes, projection_range};
 use uniphys_types::{Joint, JointKind};
 
 use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
-use crate::handle::handle_on_hinge;
+use crate::handle::{axis_across_panel, handle_on_hinge, is_broad_sheet};
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
     rest_contact_m, slide_against_contact, slide_touch_m,
@@ -83,6 +83,16 @@ pub struct SweepParams {
     /// objects: 0.7 to 1; hinges turned a quarter: at most 0.04). A door's pull runs along its
     /// hinge, a side-hinged door's upright and an oven door's level.
     pub hinge_bar_cos_min: f64,
+    /// A hinge (revolute) along the plane of a broad sheet (a door, a lid, a screen) fails when
+    /// its line runs away from the parent: its mean distance to the parent's surface over the
+    /// sheet's stretch above this share of the moving parts' diagonal (true hinges of real
+    /// objects: at most 0.09; a laptop's screen or a lid hinged across its hinge line: 0.19 to
+    /// 0.29). A panel hangs on the line where it meets its parent.
+    pub sheet_hinge_off_parent_max: f64,
+    /// ... when it is held along an edge: its contact with the parent at rest runs along at
+    /// least this share of its box diagonal (a door's, a lid's or a screen's hinge line; a
+    /// spout held on its collar by a small patch is not judged so).
+    pub sheet_contact_fraction_min: f64,
     /// A long slide (a drawer) runs in a slot: its parent walls it in on at least this many of
     /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
     /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
@@ -143,6 +153,8 @@ impl Default for SweepParams {
             short_slide_guidance_min: 0.15,
             hinge_handle_fraction_min: 0.4,
             hinge_bar_cos_min: 0.5,
+            sheet_hinge_off_parent_max: 0.15,
+            sheet_contact_fraction_min: 0.45,
             long_slide_walled_sides_min: 2,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
@@ -221,6 +233,10 @@ pub struct SweepMetrics {
     /// Turning joints along a panel's edge: how far the panel's handle lies from the axis, a
     /// share of the moving parts' reach from it; `None` without such a handle.
     pub handle_reach_fraction: Option<f64>,
+    /// Hinges (revolute) along the plane of a broad sheet (a door, a lid, a screen): the axis
+    /// line's mean distance to the parent over the sheet's stretch (`hinge_mean_to_parent_m`)
+    /// over the moving group's diagonal; `None` otherwise.
+    pub sheet_hinge_off_parent: Option<f64>,
     /// Turning joints along a panel's edge whose handle is a bar: the |cosine| between the bar's
     /// length and the axis (1: along it); `None` without such a bar.
     pub handle_bar_axis_cos: Option<f64>,
@@ -401,6 +417,7 @@ pub fn sweep(
         hinge_to_part_max_m,
         handle_reach_fraction: None,
         handle_bar_axis_cos: None,
+        sheet_hinge_off_parent: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
         short_slide_gap_growth_m: 0.0,
@@ -438,6 +455,26 @@ pub fn sweep(
     // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
     // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
     // exactly on the knob's own axis.
+    // A broad sheet held along an edge (its contact at rest runs along most of it) hangs on
+    // that edge; one held by a small patch (a spout on its collar) turns on the patch.
+    let held_along_edge = || {
+        initial.as_ref().is_some_and(|(contact, _)| {
+            let [longest, ..] = principal_axes(contact);
+            let (lo, hi) = projection_range(contact, longest);
+            hi - lo >= params.sheet_contact_fraction_min * child_boxed.part_box().diagonal
+        })
+    };
+    if joint.kind == JointKind::Revolute
+        && moving_diagonal_m > 0.0
+        && is_broad_sheet(
+            child_boxed.part_box(),
+            scene.area_m2(joint.child.0 as usize),
+        )
+        && !axis_across_panel(child_boxed.part_box(), motion.axis_in_object)
+        && held_along_edge()
+    {
+        metrics.sheet_hinge_off_parent = Some(hinge.1 / moving_diagonal_m);
+    }
     if joint.kind == JointKind::Revolute {
         metrics.in_plane_turn = in_plane_turn(
             scene,

@@ -67,6 +67,12 @@ impl SweepMetrics {
                 params.hinge_handle_fraction_min
             ));
         }
+        if let Some(off) = self.sheet_hinged_off_parent(params) {
+            reasons.push(format!(
+                "a panel hinged away from its parent: the axis runs {:.2} of the moving parts' diagonal from the parent on average (at most {:.2}); a door, a lid or a screen hangs on the line where it meets its parent",
+                off, params.sheet_hinge_off_parent_max
+            ));
+        }
         if let Some(cos) = self.hinge_across_bar(params) {
             reasons.push(format!(
                 "hinged across its handle's bar: the bar runs {:.0} degrees from the axis (at most {:.0}); a door's pull runs along its hinge",
@@ -165,8 +171,8 @@ impl SweepMetrics {
     /// joint counts 1 plus ten times its share of steps, a severe overlap change 1 plus five
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
-    /// clear of the part, a hinge at its handle or across its bar, a panel spun in its own
-    /// plane, a short slide across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
+    /// clear of the part, a hinge at its handle or across its bar, a panel hinged away from its
+    /// parent, a panel spun in its own plane, a short slide across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
     /// without contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
     /// allowed one, the axis's distance from the part over the allowed one, the least handle
     /// distance over the handle's), so a press is preferred to a pull and a hinge across the
@@ -211,6 +217,9 @@ impl SweepMetrics {
         }
         if let Some(cos) = self.hinge_across_bar(params) {
             s = s.max(3.0 - cos / params.hinge_bar_cos_min.max(1e-12));
+        }
+        if let Some(off) = self.sheet_hinged_off_parent(params) {
+            s = s.max(2.0 + off / params.sheet_hinge_off_parent_max.max(1e-12));
         }
         if let Some(turn) = self.spun_in_plane(params) {
             s = s.max(2.0 + turn.residual / params.in_plane_round_max.max(1e-12));
@@ -260,6 +269,12 @@ impl SweepMetrics {
     fn hinge_at_handle(&self, params: &SweepParams) -> Option<f64> {
         self.handle_reach_fraction
             .filter(|&f| f < params.hinge_handle_fraction_min)
+    }
+
+    /// A broad sheet's hinge line's mean distance from its parent, when too far.
+    fn sheet_hinged_off_parent(&self, params: &SweepParams) -> Option<f64> {
+        self.sheet_hinge_off_parent
+            .filter(|&off| off > params.sheet_hinge_off_parent_max)
     }
 
     /// The |cosine| between a hinge and its panel's bar handle when the bar runs across it.
@@ -361,6 +376,7 @@ impl SweepMetrics {
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
             ("hinge_to_part_m", self.hinge_to_part_m),
+            ("hinge_to_part_max_m", self.hinge_to_part_max_m),
             ("below_ground_m", self.below_ground_m),
             ("short_slide_gap_growth_m", self.short_slide_gap_growth_m),
             ("short_slide_press", self.short_slide_press),
@@ -380,6 +396,10 @@ impl SweepMetrics {
             .chain(
                 self.handle_bar_axis_cos
                     .map(|c| ("handle_bar_axis_cos".to_owned(), c)),
+            )
+            .chain(
+                self.sheet_hinge_off_parent
+                    .map(|f| ("sheet_hinge_off_parent".to_owned(), f)),
             )
             .chain(self.in_plane_turn.into_iter().flat_map(|t| {
                 [

@@ -278,6 +278,19 @@ fn a_cabinet_door_hinged_across_its_bar_handle_is_caught_and_hinged_along_it() {
     o.assert_sideways_caught_and_restored(o.movable()[0], "hinged across its handle's bar");
 }
 
+// A laptop's screen turned a quarter about a point of its hinge line swings sideways over the
+// keyboard, clear of everything: its hinge no longer runs along the base it meets.
+#[test]
+fn a_laptop_screen_hinged_across_its_hinge_line_is_caught_and_hinged_along_it() {
+    let o = object("gensim2-10697");
+    let screen = o
+        .movable()
+        .into_iter()
+        .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
+        .expect("the laptop's screen");
+    o.assert_sideways_caught_and_restored(screen, "a panel hinged away from its parent");
+}
+
 #[test]
 fn a_door_turned_about_a_line_clear_of_it_is_caught() {
     // The true pivot of this cabinet's door lies on its hinge line, 0.84 door heights above the
