@@ -192,13 +192,13 @@ pub(crate) struct HandleOnHinge {
 }
 
 /// Where a panel's handle lies from a hinge line through `pivot` along `axis`: its share of the
-/// moving parts' reach from that line, and how a bar runs against the line. The handle of the part itself
-/// (`child`: its samples) comes first, then that of the whole moving group (`group`: the part
-/// and what it carries, such as a handle fixed to a door). `None` when the part is no panel, the
-/// axis does not run along the panel's plane, nothing stands out of its outer face (turned along
-/// `away`), or what stands out touches the parent (`parent`: its samples; within
-/// [`HANDLE_TOUCH_FRACTION`] of the moving parts' diagonal): a handle is free to grip, what
-/// touches the parent is a hinge or a fitting (a laptop's hinge cover).
+/// moving parts' reach from that line, and how a bar runs against the line. The handle of the
+/// part itself (`child`: its samples) comes first, then that of the whole moving group
+/// (`group`: the part and what it carries, such as a handle fixed to a door). `None` when the
+/// part is no panel, the axis does not run along the panel's plane, nothing stands out of its
+/// outer face (turned along `away`), or what stands out touches the parent (`parent`: its
+/// samples; within [`HANDLE_TOUCH_FRACTION`] of the moving parts' diagonal): a handle is free to
+/// grip, what touches the parent is a hinge or a fitting (a laptop's hinge cover).
 #[must_use]
 pub(crate) fn handle_on_hinge(
     child: &Boxed<'_>,

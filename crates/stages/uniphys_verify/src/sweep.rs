@@ -452,9 +452,6 @@ pub fn sweep(
         child_own = Boxed::new(child_points);
         &child_own
     };
-    // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
-    // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
-    // exactly on the knob's own axis.
     // A broad sheet held along an edge (its contact at rest runs along most of it) hangs on
     // that edge; one held by a small patch (a spout on its collar) turns on the patch.
     let held_along_edge = || {
@@ -475,6 +472,9 @@ pub fn sweep(
     {
         metrics.sheet_hinge_off_parent = Some(hinge.1 / moving_diagonal_m);
     }
+    // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
+    // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not
+    // exactly on the knob's own axis.
     if joint.kind == JointKind::Revolute {
         metrics.in_plane_turn = in_plane_turn(
             scene,

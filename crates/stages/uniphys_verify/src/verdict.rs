@@ -172,8 +172,9 @@ impl SweepMetrics {
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
     /// clear of the part, a hinge at its handle or across its bar, a panel hinged away from its
-    /// parent, a panel spun in its own plane, a short slide across its face; a long slide in no slot or a short slide the wrong way counts 2.5. 10
-    /// without contact at rest. At most 1 when the sweep passes: then the margin to each rule (a short slide's gap growth over the
+    /// parent, a panel spun in its own plane, a short slide across its face; a long slide in no
+    /// slot or a short slide the wrong way counts 2.5. 10 without contact at rest. At most 1
+    /// when the sweep passes: then the margin to each rule (a short slide's gap growth over the
     /// allowed one, the axis's distance from the part over the allowed one, the least handle
     /// distance over the handle's), so a press is preferred to a pull and a hinge across the
     /// part from its handle to one beside it.
