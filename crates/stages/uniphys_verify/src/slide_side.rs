@@ -95,3 +95,53 @@ pub(crate) fn slide_side(
         away,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use uniphys_geometry::TriMesh;
+
+    use super::*;
+
+    fn scene(meshes: &[TriMesh]) -> Scene {
+        let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
+        Scene::new(meshes, &colliders, 1500).expect("scene")
+    }
+
+    /// The moving samples of part 1 within `touch_m` of part 0.
+    fn touching(s: &Scene, touch_m: f64) -> Vec<DVec3> {
+        s.points_of(&[1])
+            .into_iter()
+            .filter(|p| s.surfaces.distance_m(0, *p) <= touch_m)
+            .collect()
+    }
+
+    #[test]
+    fn a_button_on_a_panel_is_surrounded_and_pressing_it_goes_toward_the_panel() {
+        // A 1 x 1 panel 0.1 thick, a 0.1-wide button standing on the middle of its top face.
+        let s = scene(&[
+            TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.1)),
+            TriMesh::cuboid(DVec3::new(0.45, 0.45, 0.1), DVec3::new(0.55, 0.55, 0.13)),
+        ]);
+        let moving = s.points_of(&[1]);
+        let touch = touching(&s, 0.005);
+        let pressed = slide_side(&s, 0, &moving, &touch, DVec3::Z, (-0.01, 0.0)).expect("side");
+        assert_eq!(pressed.surround_share, 1.0);
+        assert_eq!(pressed.away, -1.0);
+        let pulled = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.01)).expect("side");
+        assert_eq!(pulled.away, 1.0);
+    }
+
+    #[test]
+    fn a_lid_on_a_post_caps_it_and_lifting_it_goes_away() {
+        // A 0.2-wide post 1 tall and a lid of its width on top.
+        let s = scene(&[
+            TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.2, 0.2, 1.0)),
+            TriMesh::cuboid(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.2, 0.2, 1.05)),
+        ]);
+        let moving = s.points_of(&[1]);
+        let touch = touching(&s, 0.005);
+        let lifted = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.05)).expect("side");
+        assert_eq!(lifted.surround_share, 0.0);
+        assert_eq!(lifted.away, 1.0);
+    }
+}
