@@ -60,6 +60,20 @@ pub(crate) fn contact_normal_tensor(
     })
 }
 
+/// The `points` within `touch_m` of `parent`'s surface.
+pub(crate) fn touching_samples(
+    scene: &Scene,
+    parent: usize,
+    points: &[DVec3],
+    touch_m: f64,
+) -> Vec<DVec3> {
+    points
+        .iter()
+        .filter(|p| scene.surfaces.distance_m(parent, **p) <= touch_m)
+        .copied()
+        .collect()
+}
+
 /// How a slide along `axis` meets its contact normal tensor `T` ([`contact_normal_tensor`]):
 /// how much it presses (`a^T T a` over `T`'s largest eigenvalue) and how much it is guided (the
 /// smaller eigenvalue of `T` across the axis).

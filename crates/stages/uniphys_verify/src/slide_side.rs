@@ -9,9 +9,9 @@
 
 use std::f64::consts::TAU;
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, projection_range};
 
-use crate::held::mean;
+use crate::held::{farthest_from_line_m, mean};
 use crate::scene::Scene;
 
 /// Directions around the slide's axis in which the parent's surface is looked for.
@@ -54,10 +54,7 @@ pub(crate) fn slide_side(
         return None;
     }
     let centre = mean(moving);
-    let radius_m = moving
-        .iter()
-        .map(|p| (*p - centre).reject_from_normalized(axis).length())
-        .fold(0.0, f64::max);
+    let radius_m = farthest_from_line_m(moving, centre, axis);
     if radius_m <= 0.0 {
         return None;
     }
@@ -78,12 +75,7 @@ pub(crate) fn slide_side(
         .count();
     let parent_points = &scene.samples[parent];
     let offset = (centre - mean(parent_points)).dot(axis);
-    let (lo, hi) = parent_points
-        .iter()
-        .map(|p| p.dot(axis))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
-            (lo.min(t), hi.max(t))
-        });
+    let (lo, hi) = projection_range(parent_points, axis);
     let travel_sign = if upper >= -lower { 1.0 } else { -1.0 };
     let away = if offset.abs() >= AWAY_OFFSET_FRACTION_MIN * (hi - lo).max(0.0) {
         travel_sign * offset.signum()
@@ -101,18 +93,11 @@ mod tests {
     use uniphys_geometry::TriMesh;
 
     use super::*;
+    use crate::held::touching_samples;
 
     fn scene(meshes: &[TriMesh]) -> Scene {
         let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
         Scene::new(meshes, &colliders, 1500).expect("scene")
-    }
-
-    /// The moving samples of part 1 within `touch_m` of part 0.
-    fn touching(s: &Scene, touch_m: f64) -> Vec<DVec3> {
-        s.points_of(&[1])
-            .into_iter()
-            .filter(|p| s.surfaces.distance_m(0, *p) <= touch_m)
-            .collect()
     }
 
     #[test]
@@ -123,7 +108,7 @@ mod tests {
             TriMesh::cuboid(DVec3::new(0.45, 0.45, 0.1), DVec3::new(0.55, 0.55, 0.13)),
         ]);
         let moving = s.points_of(&[1]);
-        let touch = touching(&s, 0.005);
+        let touch = touching_samples(&s, 0, &moving, 0.005);
         let pressed = slide_side(&s, 0, &moving, &touch, DVec3::Z, (-0.01, 0.0)).expect("side");
         assert_eq!(pressed.surround_share, 1.0);
         assert_eq!(pressed.away, -1.0);
@@ -139,7 +124,7 @@ mod tests {
             TriMesh::cuboid(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.2, 0.2, 1.05)),
         ]);
         let moving = s.points_of(&[1]);
-        let touch = touching(&s, 0.005);
+        let touch = touching_samples(&s, 0, &moving, 0.005);
         let lifted = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.05)).expect("side");
         assert_eq!(lifted.surround_share, 0.0);
         assert_eq!(lifted.away, 1.0);

@@ -9,7 +9,7 @@ use crate::crossing::Crossings;
 use crate::handle::{axis_across_panel, handle_on_hinge, is_broad_sheet};
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
-    rest_contact_m, slide_against_contact, slide_touch_m,
+    rest_contact_m, slide_against_contact, slide_touch_m, touching_samples,
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
@@ -510,16 +510,11 @@ pub fn sweep(
                 slide_against_contact(tensor, motion.axis_in_object);
         }
         if matches!(short_slide, Some(Some(_))) {
-            let touching: Vec<DVec3> = moving_points
-                .iter()
-                .filter(|p| scene.surfaces.distance_m(parent, **p) <= touch_m)
-                .copied()
-                .collect();
             metrics.short_slide_side = slide_side(
                 scene,
                 parent,
                 &moving_points,
-                &touching,
+                &touching_samples(scene, parent, &moving_points, touch_m),
                 motion.axis_in_object,
                 (lower, upper),
             );
