@@ -6,7 +6,8 @@
 //!   gap to its parent, its direction against the face it sits on and which way it goes (into
 //!   a face around it, off a parent it caps: [`SlideSide`]), a turning axis held by
 //!   its part, a panel's hinge away from its handle and along a bar handle ([`panel_handle`]), a sheet held along an edge hinged where it meets its parent, a panel turned in its
-//!   own plane only when round or held across both faces ([`InPlaneTurn`]), nothing taken
+//!   own plane only when round or held across both faces ([`InPlaneTurn`]), a part spun without limit
+//!   about the line it is round about when it is round about one ([`OffRoundSpin`]), nothing taken
 //!   below the ground the object stands on (when it rests on one: `ground`), and interpenetration of convex colliders (a
 //!   measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
 //!   sweep, which rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
@@ -37,6 +38,7 @@ mod held;
 mod in_plane;
 mod intrinsic;
 mod motion;
+mod off_round;
 mod part_box;
 mod patch;
 mod penetration;
@@ -60,6 +62,7 @@ pub use handle::{PANEL_SLAB_RATIO, panel_handle};
 pub use in_plane::{InPlaneTurn, held_pivots};
 pub use intrinsic::{IntrinsicOutcome, MASS_RELATIVE_ERROR_MAX, part_checks, verify_intrinsic};
 pub use motion::{JointMotion, sweep_coordinates};
+pub use off_round::OffRoundSpin;
 pub use part_box::PartBox;
 pub use patch::{PatchParams, grow_patch};
 pub use plausibility::plausibility_checks;

@@ -1,11 +1,13 @@
 //! The parts of an asset prepared for sweeps: surface samples and convex colliders.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
+use std::sync::Mutex;
 
-use uniphys_geometry::{Aabb, DVec3, TriMesh, sample_points};
+use uniphys_geometry::{Aabb, DVec3, TriMesh, box_axes, sample_points};
 use uniphys_types::{Joint, PartId};
 
 use crate::crossing::Surfaces;
+use crate::fit::{round_axis, spin_residual};
 use crate::ground::{GROUND_TOUCH_FRACTION, stands_on_ground};
 use crate::penetration::Colliders;
 use crate::{VerifyError, VerifyResult};
@@ -29,7 +31,19 @@ pub struct Scene {
     pub ground_z_m: Option<f64>,
     /// Whether each part stands on that ground.
     standing: Vec<bool>,
+    /// The line each group of parts (sorted indices) is round about, found on first use: a
+    /// search that sweeps of many variants of one joint would otherwise repeat.
+    round_lines: Mutex<HashMap<Vec<usize>, Option<RoundLine>>>,
 }
+
+/// A group of parts whose roundness residual about each of its box axes through its centroid is
+/// above this share of its diagonal is round about no line (a round part's box axes run along
+/// and across its axis: a knob whose box is tilted a few degrees by its pointer is within 0.05).
+const ROUND_SCREEN_RESIDUAL_MAX: f64 = 0.1;
+
+/// A line a group of parts is round about: `(direction, a point on it, roundness residual)`
+/// (see `fit::round_axis`).
+pub(crate) type RoundLine = (DVec3, DVec3, f64);
 
 impl Scene {
     /// Samples `samples_per_part` surface points of each part (seeded by the part index),
@@ -76,6 +90,7 @@ impl Scene {
             centre_m: bounds.center(),
             ground_z_m,
             standing,
+            round_lines: Mutex::new(HashMap::new()),
         })
     }
 
@@ -102,6 +117,35 @@ impl Scene {
     #[must_use]
     pub fn stands_on_ground(&self, part: usize) -> bool {
         self.standing.get(part).copied().unwrap_or(false)
+    }
+
+    /// The line the parts `parts` (their samples `points`, as [`Self::points_of`] gives
+    /// them) are round about, searched from their box axes, if they are round about one.
+    pub(crate) fn round_line(&self, parts: &[usize], points: &[DVec3]) -> Option<RoundLine> {
+        let known = self
+            .round_lines
+            .lock()
+            .ok()
+            .and_then(|lines| lines.get(parts).copied());
+        if let Some(line) = known {
+            return line;
+        }
+        let axes = box_axes(points);
+        // A part far from round about each of its box axes through its centroid is round about
+        // no line near them: the pattern search, hundreds of turns of the samples, is skipped.
+        let centroid = points.iter().sum::<DVec3>() / points.len().max(1) as f64;
+        let nearly_round = axes
+            .iter()
+            .any(|&a| spin_residual(points, a, centroid) <= ROUND_SCREEN_RESIDUAL_MAX);
+        let line = if nearly_round {
+            round_axis(points, &axes)
+        } else {
+            None
+        };
+        if let Ok(mut lines) = self.round_lines.lock() {
+            lines.insert(parts.to_vec(), line);
+        }
+        line
     }
 
     /// Surface samples of the given parts, concatenated.

@@ -13,6 +13,7 @@ use crate::held::{
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
+use crate::off_round::{OffRoundSpin, off_round_spin};
 use crate::part_box::Boxed;
 use crate::patch::{PatchParams, PosedTree, grow_patch};
 use crate::scene::Scene;
@@ -119,6 +120,11 @@ pub struct SweepParams {
     /// objects between their handle's scales 1.0; doors and lids lying on one face of their
     /// parent 0).
     pub in_plane_sandwiched_share_min: f64,
+    /// A continuous joint fails when it spins a part that is round about another line about a
+    /// line it is not round about: its roundness residual about the joint's line above this
+    /// share of its diagonal (true continuous joints of real objects: at most 0.04, spouts that
+    /// are round about no line aside; wheels and knobs flipped about a diameter: 0.07 to 0.19).
+    pub off_round_residual_min: f64,
     /// A joint fails when it takes a moving part below the ground the object stands on (its
     /// lowest point at rest in the service frame, Z up) by more than this fraction of the object
     /// diagonal (true joints of real objects: at most 1.5 %, a stapler's pressed arm aside;
@@ -159,6 +165,7 @@ impl Default for SweepParams {
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
             in_plane_sandwiched_share_min: 0.5,
+            off_round_residual_min: 0.06,
             below_ground_fraction_max: 0.05,
             seed: 7,
         }
@@ -260,6 +267,9 @@ pub struct SweepMetrics {
     /// Hinges (revolute) whose moving parts are a panel turned about its own normal: how round
     /// it is about the axis and how it is held across its faces; `None` otherwise.
     pub in_plane_turn: Option<InPlaneTurn>,
+    /// Continuous joints whose moving parts are round about another line than the joint's
+    /// ([`OffRoundSpin`]); `None` otherwise.
+    pub off_round_spin: Option<OffRoundSpin>,
     /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
     /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
     pub short_slide_side: Option<SlideSide>,
@@ -426,6 +436,7 @@ pub fn sweep(
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
         in_plane_turn: None,
+        off_round_spin: None,
         short_slide_side: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
@@ -483,6 +494,16 @@ pub fn sweep(
             motion.axis_in_object,
             motion.pivot_in_object_m,
             rest_contact_m(params, moving_diagonal_m, diag),
+        );
+    }
+    if joint.kind == JointKind::Continuous {
+        metrics.off_round_spin = off_round_spin(
+            scene,
+            moving,
+            &moving_points,
+            motion.axis_in_object,
+            motion.pivot_in_object_m,
+            params.off_round_residual_min,
         );
     }
     if joint.kind != JointKind::Prismatic {

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use uniphys_types::JointKind;
 
 use crate::in_plane::InPlaneTurn;
+use crate::off_round::OffRoundSpin;
 use crate::slide_side::SlideSide;
 use crate::sweep::{SweepMetrics, SweepParams};
 
@@ -17,6 +18,8 @@ impl SweepMetrics {
     ///   a hinge along a panel's edge lies at the panel's handle rather than across from it;
     /// - hinges (revolute): a panel turns in its own plane though it is neither round about the
     ///   axis nor held across both faces (a door spun about its corner over the cabinet's front);
+    /// - continuous joints: a part round about one line spins about another (a wheel flipped
+    ///   about its diameter);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
@@ -59,6 +62,21 @@ impl SweepMetrics {
                 params.in_plane_round_max,
                 100.0 * turn.sandwiched_share,
                 100.0 * params.in_plane_sandwiched_share_min
+            ));
+        }
+        if let Some(spin) = self.spun_off_round(params) {
+            let (a, p) = (spin.round_axis, spin.round_point);
+            reasons.push(format!(
+                "spins a round part about a line it is not round about: turned, it lands {:.3} of its diagonal from itself (at most {:.3}), and {:.3} about the line along ({:.3}, {:.3}, {:.3}) through ({:.4}, {:.4}, {:.4}); a knob, a wheel or a cap spins about its own axis",
+                spin.residual,
+                params.off_round_residual_min,
+                spin.round_residual,
+                a.x,
+                a.y,
+                a.z,
+                p.x,
+                p.y,
+                p.z
             ));
         }
         if let Some(f) = self.hinge_at_handle(params) {
@@ -172,7 +190,8 @@ impl SweepMetrics {
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
     /// clear of the part, a hinge at its handle or across its bar, a panel hinged away from its
-    /// parent, a panel spun in its own plane, a short slide across its face; a long slide in no
+    /// parent, a panel spun in its own plane,
+    /// a round part spun off its round line, a short slide across its face; a long slide in no
     /// slot or a short slide the wrong way counts 2.5. 10 without contact at rest. At most 1
     /// when the sweep passes: then the margin to each rule (a short slide's gap growth over the
     /// allowed one, the axis's distance from the part over the allowed one, the least handle
@@ -224,6 +243,9 @@ impl SweepMetrics {
         }
         if let Some(turn) = self.spun_in_plane(params) {
             s = s.max(2.0 + turn.residual / params.in_plane_round_max.max(1e-12));
+        }
+        if let Some(spin) = self.spun_off_round(params) {
+            s = s.max(2.0 + spin.residual / params.off_round_residual_min.max(1e-12));
         }
         if self.long_slide_unheld(params) || self.short_slide_wrong_way(params).is_some() {
             s = s.max(2.5);
@@ -290,6 +312,14 @@ impl SweepMetrics {
         self.in_plane_turn.filter(|t| {
             t.residual > params.in_plane_round_max
                 && t.sandwiched_share < params.in_plane_sandwiched_share_min
+        })
+    }
+
+    /// A continuous joint spins a part round about another line about one it is not round
+    /// about.
+    fn spun_off_round(&self, params: &SweepParams) -> Option<OffRoundSpin> {
+        self.off_round_spin.filter(|s| {
+            self.kind == JointKind::Continuous && s.residual > params.off_round_residual_min
         })
     }
 
@@ -406,6 +436,12 @@ impl SweepMetrics {
                 [
                     ("in_plane_residual".to_owned(), t.residual),
                     ("in_plane_sandwiched_share".to_owned(), t.sandwiched_share),
+                ]
+            }))
+            .chain(self.off_round_spin.into_iter().flat_map(|s| {
+                [
+                    ("off_round_residual".to_owned(), s.residual),
+                    ("off_round_round_residual".to_owned(), s.round_residual),
                 ]
             }))
             .chain(self.short_slide_side.into_iter().flat_map(|s| {

@@ -393,6 +393,28 @@ fn stove_knobs_turned_about_a_line_across_them_spin_about_their_own_axis_again()
     }
 }
 
+// A cart's wheel and a microwave's knob on a long stem flipped about a diameter touch nothing
+// on their way: the wheel turns in open air under the cart, the knob stands clear of the panel.
+// Only their shape tells: each is round about its own axis, not about the flipped one.
+#[test]
+fn a_wheel_and_a_knob_spun_about_a_diameter_are_caught_and_spun_about_their_axis_again() {
+    for name in ["kitchen-100490", "kitchen-7167"] {
+        let o = object(name);
+        let spins: Vec<usize> = o
+            .movable()
+            .into_iter()
+            .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Continuous)
+            .collect();
+        assert!(!spins.is_empty(), "{name} has a part that spins");
+        for i in spins {
+            o.assert_sideways_caught_and_restored(
+                i,
+                "spins a round part about a line it is not round about",
+            );
+        }
+    }
+}
+
 #[test]
 fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
     // The inset door crosses no surface on its way in, but its hull sinks deep into the
