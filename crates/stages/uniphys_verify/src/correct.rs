@@ -3,8 +3,10 @@
 //! round about; another pivot on the same axis (contact clusters, the part's edge lines, its
 //! edges' cross-sections, the centres of its rounded ends and, for a panel its parent holds on
 //! both faces, of the held region), keeping the direction, then reversing it; another axis (for
-//! a slide first the normal of the face it touches and the axis of the walls around it); the
-//! other kind of motion (slide for turn, turn for slide).
+//! a slide first the normal of the face it touches and the axis of the walls around it; then the
+//! directions a mechanism is built square to near the candidates: the vertical of an object on
+//! the ground, the parent's box axes); the other kind of motion (slide for turn, turn for
+//! slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
 //! it by the share cut away), then the one with the most margin. Across tiers the smaller
@@ -298,8 +300,8 @@ fn tiers(
         }
     }
     // 5. Another axis, both ways: for a slide first the normal of the face it touches and the
-    // axis of walls around it (a press, a guided slide), then the candidates from the contact
-    // and the part's box.
+    // axis of walls around it (a press, a guided slide), then the square directions near the
+    // candidates, then the candidates from the contact and the part's box.
     let contact_axes: Vec<DVec3> = if joint.kind == JointKind::Prismatic {
         let touch_m = slide_touch_m(params, &moving_points);
         contact_normal_tensor(scene, joint.parent.0 as usize, &moving_points, touch_m)
@@ -315,10 +317,15 @@ fn tiers(
     // hinge or spin, and the part's edge or symmetry gives it more exactly.
     let mut axes: Vec<DVec3> = part_axes.to_vec();
     axes.extend(candidates.as_ref().map_or(&[][..], |c| &c.axes[..]));
+    let square = square_axes(scene, &parent_points, &axes);
     tiers.push(axis_variants(&contact_axes, &[], axis, |a| {
         with(joint.kind, a, pivot, limits)
     }));
-    tiers.push(axis_variants(&axes, &contact_axes, axis, |a| {
+    tiers.push(axis_variants(&square, &contact_axes, axis, |a| {
+        with(joint.kind, a, pivot, limits)
+    }));
+    let tried: Vec<DVec3> = contact_axes.iter().chain(&square).copied().collect();
+    tiers.push(axis_variants(&axes, &tried, axis, |a| {
         with(joint.kind, a, pivot, limits)
     }));
 
@@ -392,6 +399,27 @@ fn axis_variants(
     }
     out
 }
+
+/// The directions a mechanism is built square to that lie within [`SQUARE_SNAP_RAD`] of one of
+/// `axes`: the vertical, when the object stands on the ground, and the axes of the parent's box
+/// (sampled at `parent_points`). An axis found from a part's box or its contact is a few
+/// degrees off the hinge or spin it stands for (a lever's box tilted by its grip, a contact
+/// patch's rim); the square direction near it is tried first.
+fn square_axes(scene: &Scene, parent_points: &[DVec3], axes: &[DVec3]) -> Vec<DVec3> {
+    let mut square: Vec<DVec3> = Vec::new();
+    if scene.ground_z_m.is_some() {
+        square.push(DVec3::Z);
+    }
+    square.extend(box_axes(parent_points));
+    square
+        .into_iter()
+        .filter(|s| axes.iter().any(|a| line_angle(*s, *a) < SQUARE_SNAP_RAD))
+        .collect()
+}
+
+/// An axis candidate within this angle of a square direction ([`square_axes`]) is tried along
+/// that direction first, radians (15 degrees).
+const SQUARE_SNAP_RAD: f64 = 0.26;
 
 /// Axes closer than this are one candidate, radians (a part's edge and a hinge line from its
 /// contact differ by a few degrees on real objects).
