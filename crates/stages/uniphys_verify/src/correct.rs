@@ -5,8 +5,8 @@
 //! both faces, of the held region), keeping the direction, then reversing it; another axis (for
 //! a slide first the normal of the face it touches and the axis of the walls around it; then the
 //! directions a mechanism is built square to near the candidates: the vertical of an object on
-//! the ground, the parent's box axes); the other kind of motion (slide for turn, turn for
-//! slide).
+//! the ground, the parent's box axes; for a panel its parent holds on both faces, its normal
+//! through the held pin); the other kind of motion (slide for turn, turn for slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
 //! it by the share cut away), then the one with the most margin. Across tiers the smaller
@@ -334,6 +334,26 @@ fn tiers(
     tiers.push(axis_variants(&axes, &tried, axis, |a| {
         with(joint.kind, a, pivot, limits)
     }));
+    // A panel its parent holds on both faces (a folding knife's blade between its scales) turns
+    // about its own normal on the pin through the held region, which the axis alone, kept
+    // through the old pivot, misses.
+    if joint.kind != JointKind::Prismatic {
+        let mut tier = Vec::new();
+        for a in part_axes {
+            for p in held_pivots(scene, moving, a, params) {
+                for a in [a, -a] {
+                    tier.push(Variant {
+                        joint: with(joint.kind, a, p, limits),
+                        change: format!(
+                            "turned about the panel's normal ({:.3}, {:.3}, {:.3}) on the pin its parent holds, through ({:.4}, {:.4}, {:.4})",
+                            a.x, a.y, a.z, p.x, p.y, p.z
+                        ),
+                    });
+                }
+            }
+        }
+        tiers.push(tier);
+    }
 
     // 6. The other kind of motion along or about the same axis.
     let mut tier = Vec::new();

@@ -2,15 +2,17 @@
 //!
 //! - intrinsic checks per part and object, levels 0-4 of the reference ([`verify_intrinsic`]);
 //! - articulation sweeps: each joint moved through its range; contact with its parent, the
-//!   moving surface passing through the other parts' own triangles (`crossing`), a short slide's
-//!   gap to its parent, its direction against the face it sits on and which way it goes (into
-//!   a face around it, off a parent it caps: [`SlideSide`]), a turning axis held by
-//!   its part, a panel's hinge away from its handle and along a bar handle ([`panel_handle`]), a sheet held along an edge hinged where it meets its parent, a panel turned in its
-//!   own plane only when round or held across both faces ([`InPlaneTurn`]), a part spun without limit
-//!   about the line it is round about when it is round about one ([`OffRoundSpin`]), nothing taken
-//!   below the ground the object stands on (when it rests on one: `ground`), and interpenetration of convex colliders (a
-//!   measure for grounders) ([`sweep`], [`Scene`]); the verdict on a
-//!   sweep, which rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
+//!   moving surface passing through the other parts' own triangles (`crossing`), a short
+//!   slide's gap to its parent, its direction against the face it sits on and which way it
+//!   goes (into a face around it, off a parent it caps: [`SlideSide`]), a long slide in a slot
+//!   and no hinge about a slot's axis (`slot`), a turning axis held by its part, a panel's hinge
+//!   away from its handle and along a bar handle ([`panel_handle`]), a sheet held along an edge
+//!   hinged where it meets its parent, a panel turned in its own plane only when round or held
+//!   across both faces ([`InPlaneTurn`]), a part spun without limit about the line it is round
+//!   about when it is round about one ([`OffRoundSpin`]), nothing taken below the ground the
+//!   object stands on (when it rests on one: `ground`), and interpenetration of convex
+//!   colliders (a measure for grounders) ([`sweep`], [`Scene`]); the verdict on a sweep, which
+//!   rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
 //!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
 //!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's

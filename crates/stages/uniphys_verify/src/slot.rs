@@ -1,6 +1,7 @@
-//! Whether a long slide runs in a slot: its parent walls it in on the sides across its axis (a
-//! drawer between a carcass's sides, bottom and top), measured by rays cast from inside the
-//! moving part towards each side.
+//! Whether a part sits in a slot along an axis: its parent walls it in on the sides across the
+//! axis (a drawer between a carcass's sides, bottom and top), measured by rays cast from inside
+//! the moving part towards each side. A long slide must run in one; a hinge must not turn its
+//! part about one's axis (what sits in a slot slides along it).
 
 use uniphys_geometry::{Aabb, DVec3, box_axes, projection_range};
 

@@ -98,6 +98,12 @@ pub struct SweepParams {
     /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
     /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
     pub long_slide_walled_sides_min: usize,
+    /// A hinge (revolute) fails when its parent walls its moving parts in on at least this many
+    /// of the four sides across its axis: they sit in a slot along the axis, which they slide
+    /// along and do not turn about (the drawers of real objects: 2 to 4, mostly 3; true hinges:
+    /// at most 2). A panel turned about its own normal between its parent's faces (a folding
+    /// knife's blade between its scales: 3) is judged by the in-plane rule instead.
+    pub hinge_slot_walled_sides_min: usize,
     /// A hinge (a revolute joint) fails when its moving colliders sink into the still ones, beyond
     /// their overlap at rest, by more than this many penetration tolerances on average over its
     /// sweep: a door swung into its own hollow cabinet, whose convex pieces fill the cavity (true
@@ -162,6 +168,7 @@ impl Default for SweepParams {
             sheet_hinge_off_parent_max: 0.15,
             sheet_contact_fraction_min: 0.45,
             long_slide_walled_sides_min: 2,
+            hinge_slot_walled_sides_min: 3,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
             in_plane_sandwiched_share_min: 0.5,
@@ -264,6 +271,10 @@ pub struct SweepMetrics {
     /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
     /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
     pub long_slide_walled_sides: usize,
+    /// Hinges (revolute) whose axis does not cross the plane of a panel: how many of the four
+    /// sides across the axis the parent walls the moving parts in on (a drawer turned about its
+    /// depth: its slot); 0 for other joints.
+    pub hinge_slot_walled_sides: usize,
     /// Hinges (revolute) whose moving parts are a panel turned about its own normal: how round
     /// it is about the axis and how it is held across its faces; `None` otherwise.
     pub in_plane_turn: Option<InPlaneTurn>,
@@ -435,6 +446,7 @@ pub fn sweep(
         short_slide_press: 1.0,
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
+        hinge_slot_walled_sides: 0,
         in_plane_turn: None,
         off_round_spin: None,
         short_slide_side: None,
@@ -522,6 +534,14 @@ pub fn sweep(
     // A long slide (a slide that is not short) must run in a slot of its parent.
     if short_slide == Some(None) {
         metrics.long_slide_walled_sides =
+            walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+    }
+    // A hinge must not turn a part about the axis of the slot it sits in (a drawer about its
+    // depth); a panel turned about its own normal is judged in the plane it turns in.
+    if joint.kind == JointKind::Revolute
+        && !axis_across_panel(moving_boxed.part_box(), motion.axis_in_object)
+    {
+        metrics.hinge_slot_walled_sides =
             walled_sides(scene, parent, &moving_points, motion.axis_in_object);
     }
     if joint.kind == JointKind::Prismatic {

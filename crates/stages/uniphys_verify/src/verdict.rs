@@ -25,6 +25,8 @@ impl SweepMetrics {
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
     /// - short slides: the part moves away from its parent (a button pulled out), or across the
     ///   face it sits on (neither pressing into it nor guided by walls);
+    /// - hinges (revolute): the part sits in a slot along the axis (walled in on
+    ///   `hinge_slot_walled_sides_min` sides across it: a drawer turned about its depth);
     /// - long slides: the part runs in no slot of its parent (walled in on too few sides across
     ///   the axis) and does not lift off the face it sits on (a door or lid pushed along its
     ///   own face);
@@ -146,6 +148,13 @@ impl SweepMetrics {
                 )
             });
         }
+        if self.hinge_in_slot(params) {
+            reasons.push(format!(
+                "turns its part about the axis of a slot: its parent walls it in on {} of the 4 sides across the axis (at most {}); what sits in a slot slides along it",
+                self.hinge_slot_walled_sides,
+                params.hinge_slot_walled_sides_min.saturating_sub(1)
+            ));
+        }
         if self.long_slide_unheld(params) {
             reasons.push(format!(
                 "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and it presses into the face it sits on {:.2} (at least {:.2})",
@@ -190,13 +199,13 @@ impl SweepMetrics {
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
     /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
     /// clear of the part, a hinge at its handle or across its bar, a panel hinged away from its
-    /// parent, a panel spun in its own plane,
-    /// a round part spun off its round line, a short slide across its face; a long slide in no
-    /// slot or a short slide the wrong way counts 2.5. 10 without contact at rest. At most 1
-    /// when the sweep passes: then the margin to each rule (a short slide's gap growth over the
-    /// allowed one, the axis's distance from the part over the allowed one, the least handle
-    /// distance over the handle's), so a press is preferred to a pull and a hinge across the
-    /// part from its handle to one beside it.
+    /// parent, a panel spun in its own plane, a round part spun off its round line, a short
+    /// slide across its face; a long slide in no slot, a hinge about a slot's axis or a short
+    /// slide the wrong way counts 2.5. 10 without contact at rest. At most 1 when the sweep
+    /// passes: then the margin to each rule (a short slide's gap growth over the allowed one,
+    /// the axis's distance from the part over the allowed one, the least handle distance over
+    /// the handle's), so a press is preferred to a pull and a hinge across the part from its
+    /// handle to one beside it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -247,7 +256,10 @@ impl SweepMetrics {
         if let Some(spin) = self.spun_off_round(params) {
             s = s.max(2.0 + spin.residual / params.off_round_residual_min.max(1e-12));
         }
-        if self.long_slide_unheld(params) || self.short_slide_wrong_way(params).is_some() {
+        if self.long_slide_unheld(params)
+            || self.short_slide_wrong_way(params).is_some()
+            || self.hinge_in_slot(params)
+        {
             s = s.max(2.5);
         }
         if self.kind == JointKind::Revolute {
@@ -349,6 +361,12 @@ impl SweepMetrics {
         })
     }
 
+    /// A hinge turns its part about the axis of a slot its parent holds it in.
+    fn hinge_in_slot(&self, params: &SweepParams) -> bool {
+        self.kind == JointKind::Revolute
+            && self.hinge_slot_walled_sides >= params.hinge_slot_walled_sides_min
+    }
+
     /// A long slide runs in no slot and does not lift off the face it sits on.
     fn long_slide_unheld(&self, params: &SweepParams) -> bool {
         self.long_slide_walled_sides < params.long_slide_walled_sides_min
@@ -415,6 +433,10 @@ impl SweepMetrics {
             (
                 "long_slide_walled_sides",
                 self.long_slide_walled_sides as f64,
+            ),
+            (
+                "hinge_slot_walled_sides",
+                self.hinge_slot_walled_sides as f64,
             ),
         ];
         entries

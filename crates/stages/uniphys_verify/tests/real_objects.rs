@@ -441,6 +441,49 @@ fn a_laptop_screen_opened_backwards_onto_the_table_is_caught_and_closed_again() 
     o.assert_reversal_caught_and_undone(screen, "goes through the ground");
 }
 
+// A drawer hinged about its own slide axis, swung a quarter turn: about a line along its depth
+// through its side (where nothing stands below a drawer) it swings down freely. Its carcass walls
+// it in across that axis: what sits in a slot slides along it.
+#[test]
+fn a_drawer_turned_about_its_slide_axis_is_caught_and_slides_again() {
+    let o = object("kitchen-28164");
+    for i in o.movable() {
+        let truth = o.joints[i].clone();
+        let part = o.scene.points_of(&[truth.child.0 as usize]);
+        let centre = part.iter().sum::<DVec3>() / part.len() as f64;
+        let hinged = Joint {
+            kind: uniphys_types::JointKind::Revolute,
+            pivot_in_object_m: centre.to_array(),
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: std::f64::consts::FRAC_PI_2,
+            }),
+            ..truth.clone()
+        };
+        let verdict = o.caught(i, hinged);
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, uniphys_types::JointKind::Prismatic, "{change}");
+        let same_way =
+            DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
+        assert!(same_way > 0.999, "{change}: {fixed:?}");
+        let (f, t) = (fixed.limits.expect("range"), truth.limits.expect("range"));
+        let overlap = f.upper.min(t.upper) - f.lower.max(t.lower);
+        assert!(
+            overlap > 0.5 * (t.upper - t.lower),
+            "{change}: {f:?} against {t:?}"
+        );
+    }
+}
+
+// A folding knife's blade hinged about a line in its own plane through its pin: between the
+// handle's scales and its spine it sits in a slot. It turns about its normal on the pin.
+#[test]
+fn a_knife_blade_hinged_along_its_plane_is_caught_and_turned_on_its_pin_again() {
+    let o = object("kitchen-102400");
+    let blade = o.movable()[0];
+    o.assert_sideways_caught_and_restored(blade, "slot");
+}
+
 #[test]
 fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
     // The inset door crosses no surface on its way in, but its hull sinks deep into the
