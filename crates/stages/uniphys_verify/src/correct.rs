@@ -13,8 +13,8 @@
 //! change wins unless a later tier's, of the same kind of motion (a turn or a slide), fits the
 //! parts clearly better (`fit::misfit`: a hinge along its parent and across from the handle, a
 //! spin about the part's own round axis); a correction that fits well ends the search. A joint
-//! that nearly passed only has its range changed; for a failure late in the range the cut and
-//! the reversal are judged together.
+//! that nearly passed only has its range changed; a failure late in the range is cut before
+//! the range is reversed.
 
 use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
@@ -197,10 +197,9 @@ fn tiers(
     });
     let mut tiers: Vec<Vec<Variant>> = Vec::new();
 
-    // 1-2. The other way, and as far as the sweep went before it failed: together when the
-    // failure comes late (the part closes onto something past a limit that overshoots, or runs
-    // the wrong way until it meets something), the reversal first when it comes early (the part
-    // moves into its parent at once).
+    // 1-2. The other way, and as far as the sweep went before it failed: the cut first when the
+    // failure comes late (the part closes onto something past a limit that overshoots), the
+    // reversal first when it comes early (the part moves into its parent at once).
     let mut reverse_tier = Vec::new();
     if let Some(r) = reversed {
         reverse_tier.push(Variant {
@@ -229,12 +228,7 @@ fn tiers(
         }
     }
     if late {
-        // A late failure is a limit that overshoots or a part run the wrong way until it meets
-        // something (a screen opened backwards onto the table): the cut and the reversal are
-        // judged together, and the one that fits the parts better wins (a cut counts against
-        // itself by the share it cuts away).
-        cut_tier.extend(reverse_tier);
-        tiers.push(cut_tier);
+        tiers.extend([cut_tier, reverse_tier]);
     } else {
         tiers.extend([reverse_tier, cut_tier]);
     }

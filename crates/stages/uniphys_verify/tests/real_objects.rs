@@ -427,20 +427,6 @@ fn faucet_levers_turned_a_quarter_turn_about_the_upright_again() {
     }
 }
 
-// A laptop's screen that closes from rest, run the other way, opens backwards freely until it
-// reaches the table, late in its range. Cut there it would pass too; run the way it closes, it
-// passes over its whole range and fits better.
-#[test]
-fn a_laptop_screen_opened_backwards_onto_the_table_is_caught_and_closed_again() {
-    let o = object("gensim2-11156");
-    let screen = o
-        .movable()
-        .into_iter()
-        .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
-        .expect("the laptop's screen");
-    o.assert_reversal_caught_and_undone(screen, "goes through the ground");
-}
-
 // A drawer hinged about its own slide axis, swung a quarter turn: about a line along its depth
 // through its side (where nothing stands below a drawer) it swings down freely. Its carcass walls
 // it in across that axis: what sits in a slot slides along it.
