@@ -7,9 +7,10 @@
 //! mechanism turns it that way. A part that is round about no line at all (a faucet's spout
 //! swivelling on its collar) says nothing either way and is not judged.
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, projection_range};
 
 use crate::fit::{ROUND_RESIDUAL_MAX, spin_residual};
+use crate::held::farthest_from_line_m;
 use crate::scene::Scene;
 
 /// How a part turned without limit sits against the line it is round about.
@@ -27,9 +28,17 @@ pub struct OffRoundSpin {
     pub round_point: DVec3,
 }
 
+/// The line a part is round about runs across the joint's when their |cosine| is below this
+/// (60 degrees apart): a line nearer the joint's is the same spin, fitted less exactly (a
+/// decomposed knob's spin line a few degrees off its round axis), which its correction refines
+/// and no rule should reject.
+const OFF_ROUND_COS_MAX: f64 = 0.5;
+
 /// The spin of the moving group (parts `moving_parts`, sampled at `moving`) about the
 /// line through `pivot` along `axis` against the line it is round about, or `None` when it is
-/// round about the joint's line (a residual at most `residual_min`) or about no line at all.
+/// round about the joint's line (a residual at most `residual_min`), about no line at all,
+/// about a line near the joint's ([`OFF_ROUND_COS_MAX`]), or longer along that line than
+/// across it (a rod, or a knob merged with a bar by a rough decomposition).
 pub(crate) fn off_round_spin(
     scene: &Scene,
     moving_parts: &[usize],
@@ -47,7 +56,12 @@ pub(crate) fn off_round_spin(
         return None;
     }
     let (round_axis, round_point, round_residual) = scene.round_line(moving_parts, moving)?;
-    Some(OffRoundSpin {
+    let across = round_axis.dot(axis).abs() < OFF_ROUND_COS_MAX;
+    // A disc or a drum (a wheel, a knob, a cap) is no longer along its round axis than across
+    // it; a rod is round about its length, and turned across it swings as a lever does.
+    let (lo, hi) = projection_range(moving, round_axis);
+    let squat = hi - lo <= 2.0 * farthest_from_line_m(moving, round_point, round_axis);
+    (across && squat).then_some(OffRoundSpin {
         residual,
         round_residual,
         round_axis,
