@@ -332,10 +332,14 @@ fn tiers(
     // about its own normal on the pin through the held region, which the axis alone, kept
     // through the old pivot, misses.
     if joint.kind != JointKind::Prismatic {
+        // The joint's own axis had these pivots in tier 4.
         let mut tier = Vec::new();
-        for a in part_axes {
-            for p in held_pivots(scene, moving, a, params) {
-                for a in [a, -a] {
+        for normal in part_axes
+            .into_iter()
+            .filter(|a| line_angle(*a, axis) >= AXIS_MERGE_RAD)
+        {
+            for p in held_pivots(scene, moving, normal, params) {
+                for a in [normal, -normal] {
                     tier.push(Variant {
                         joint: with(joint.kind, a, p, limits),
                         change: format!(

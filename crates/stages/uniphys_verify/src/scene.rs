@@ -31,8 +31,9 @@ pub struct Scene {
     pub ground_z_m: Option<f64>,
     /// Whether each part stands on that ground.
     standing: Vec<bool>,
-    /// The line each group of parts (sorted indices) is round about, found on first use: a
-    /// search that sweeps of many variants of one joint would otherwise repeat.
+    /// The line each group of parts (its indices as the sweep is given them) is round about,
+    /// found on first use: the sweeps of a joint's variants and of a grounder's hypotheses
+    /// would otherwise search it again each time.
     round_lines: Mutex<HashMap<Vec<usize>, Option<RoundLine>>>,
 }
 
