@@ -104,15 +104,10 @@ mod tests {
         TriMesh::new(positions, triangles).expect("wheel")
     }
 
-    fn scene(meshes: &[TriMesh]) -> Scene {
-        let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
-        Scene::new(meshes, &colliders, 2000).expect("scene")
-    }
-
     #[test]
     fn a_wheel_spun_about_its_axle_is_not_judged_and_about_its_diameter_is() {
         let centre = DVec3::new(0.5, -0.2, 0.3);
-        let s = scene(&[wheel(centre)]);
+        let s = Scene::of_convex_parts(&[wheel(centre)], 2000);
         let points = s.points_of(&[0]);
         assert!(off_round_spin(&s, &[0], &points, DVec3::Y, centre, 0.06).is_none());
         let flipped =
@@ -135,7 +130,7 @@ mod tests {
         positions.extend(arm.positions.iter().copied());
         let mut triangles = upright.triangles.clone();
         triangles.extend(arm.triangles.iter().map(|t| t.map(|i| i + offset)));
-        let s = scene(&[TriMesh::new(positions, triangles).expect("spout")]);
+        let s = Scene::of_convex_parts(&[TriMesh::new(positions, triangles).expect("spout")], 2000);
         let points = s.points_of(&[0]);
         let collar = DVec3::new(0.02, 0.02, 0.0);
         assert!(off_round_spin(&s, &[0], &points, DVec3::Z, collar, 0.06).is_none());

@@ -9,6 +9,7 @@ use uniphys_types::{Joint, PartId};
 use crate::crossing::Surfaces;
 use crate::fit::{round_axis, spin_residual};
 use crate::ground::{GROUND_TOUCH_FRACTION, stands_on_ground};
+use crate::held::mean;
 use crate::penetration::Colliders;
 use crate::{VerifyError, VerifyResult};
 
@@ -134,7 +135,7 @@ impl Scene {
         let axes = box_axes(points);
         // A part far from round about each of its box axes through its centroid is round about
         // no line near them: the pattern search, hundreds of turns of the samples, is skipped.
-        let centroid = points.iter().sum::<DVec3>() / points.len().max(1) as f64;
+        let centroid = mean(points);
         let nearly_round = axes
             .iter()
             .any(|&a| spin_residual(points, a, centroid) <= ROUND_SCREEN_RESIDUAL_MAX);
@@ -147,6 +148,14 @@ impl Scene {
             lines.insert(parts.to_vec(), line);
         }
         line
+    }
+
+    /// A scene of hand-built `meshes`, each its own single convex collider, with
+    /// `samples_per_part` samples per part (for unit tests of the sweep's measures).
+    #[cfg(test)]
+    pub(crate) fn of_convex_parts(meshes: &[TriMesh], samples_per_part: usize) -> Self {
+        let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
+        Self::new(meshes, &colliders, samples_per_part).expect("a scene of hand-built parts")
     }
 
     /// Surface samples of the given parts, concatenated.

@@ -95,18 +95,16 @@ mod tests {
     use super::*;
     use crate::held::touching_samples;
 
-    fn scene(meshes: &[TriMesh]) -> Scene {
-        let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
-        Scene::new(meshes, &colliders, 1500).expect("scene")
-    }
-
     #[test]
     fn a_button_on_a_panel_is_surrounded_and_pressing_it_goes_toward_the_panel() {
         // A 1 x 1 panel 0.1 thick, a 0.1-wide button standing on the middle of its top face.
-        let s = scene(&[
-            TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.1)),
-            TriMesh::cuboid(DVec3::new(0.45, 0.45, 0.1), DVec3::new(0.55, 0.55, 0.13)),
-        ]);
+        let s = Scene::of_convex_parts(
+            &[
+                TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.1)),
+                TriMesh::cuboid(DVec3::new(0.45, 0.45, 0.1), DVec3::new(0.55, 0.55, 0.13)),
+            ],
+            1500,
+        );
         let moving = s.points_of(&[1]);
         let touch = touching_samples(&s, 0, &moving, 0.005);
         let pressed = slide_side(&s, 0, &moving, &touch, DVec3::Z, (-0.01, 0.0)).expect("side");
@@ -119,10 +117,13 @@ mod tests {
     #[test]
     fn a_lid_on_a_post_caps_it_and_lifting_it_goes_away() {
         // A 0.2-wide post 1 tall and a lid of its width on top.
-        let s = scene(&[
-            TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.2, 0.2, 1.0)),
-            TriMesh::cuboid(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.2, 0.2, 1.05)),
-        ]);
+        let s = Scene::of_convex_parts(
+            &[
+                TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.2, 0.2, 1.0)),
+                TriMesh::cuboid(DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.2, 0.2, 1.05)),
+            ],
+            1500,
+        );
         let moving = s.points_of(&[1]);
         let touch = touching_samples(&s, 0, &moving, 0.005);
         let lifted = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.05)).expect("side");

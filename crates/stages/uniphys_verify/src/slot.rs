@@ -87,15 +87,10 @@ mod tests {
         (carcass, drawer)
     }
 
-    fn scene(meshes: &[TriMesh]) -> Scene {
-        let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
-        Scene::new(meshes, &colliders, 1500).expect("scene")
-    }
-
     #[test]
     fn a_drawer_in_its_carcass_is_walled_in_on_every_side() {
         let (carcass, drawer) = carcass_and_drawer();
-        let s = scene(&[carcass, drawer]);
+        let s = Scene::of_convex_parts(&[carcass, drawer], 1500);
         let moving = s.points_of(&[1]);
         assert_eq!(walled_sides(&s, 0, &moving, DVec3::Y), 4);
     }
@@ -108,7 +103,7 @@ mod tests {
             DVec3::new(-0.02, -0.012, 0.0),
             DVec3::new(0.52, -0.002, 0.24),
         );
-        let s = scene(&[carcass, door]);
+        let s = Scene::of_convex_parts(&[carcass, door], 1500);
         let moving = s.points_of(&[1]);
         let walled = walled_sides(&s, 0, &moving, DVec3::Z);
         assert!(walled <= 1, "{walled}");
