@@ -9,7 +9,9 @@
 //! through the held pin); the other kind of motion (slide for turn, turn for slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
-//! it by the share cut away), then the one with the most margin. Across tiers the smaller
+//! it by the share cut away), then the one with the most margin; a variant listed before it that
+//! moves the same way about a line a few degrees off (a part's box axis before a contact axis
+//! near it) wins instead when it fits nearly as well. Across tiers the smaller
 //! change wins unless a later tier's, of the same kind of motion (a turn or a slide), fits the
 //! parts clearly better (`fit::misfit`: a hinge along its parent and across from the handle, a
 //! spin about the part's own round axis); a correction that fits well ends the search. A joint
@@ -112,20 +114,31 @@ pub(crate) fn correct_failed(
         let full = parallel_map(&screened, |&(_, _, k)| {
             sweep(scene, &tier[k].joint, moving, params)
         });
-        let mut best: Option<((i64, f64), f64, usize, SweepMetrics)> = None;
+        let mut passing: Vec<((i64, f64), f64, usize, SweepMetrics)> = Vec::new();
         for (&(_, f, k), m) in screened.iter().zip(full) {
             let m = m?;
-            if !m.failures(params).is_empty() {
-                continue;
-            }
-            let r = preference(f, m.severity(params));
-            if best.as_ref().is_none_or(|b| compare(r, b.0).is_lt()) {
-                best = Some((r, f, k, m));
+            if m.failures(params).is_empty() {
+                passing.push((preference(f, m.severity(params)), f, k, m));
             }
         }
-        let Some((_, fit, k, metrics)) = best else {
+        let Some(best) = (0..passing.len()).min_by(|&a, &b| compare(passing[a].0, passing[b].0))
+        else {
             continue;
         };
+        // The same motion about a line a few degrees off, listed earlier in the tier (a part's
+        // own box axis before a contact axis near it), gives it more exactly: it wins when it
+        // fits nearly as well.
+        let (_, best_fit, best_k, _) = &passing[best];
+        let best = (0..passing.len())
+            .filter(|&i| {
+                let (_, f, k, _) = &passing[i];
+                k < best_k
+                    && *f <= best_fit + SAME_MOTION_MISFIT
+                    && same_motion_tilted(&tier[*k].joint, &tier[*best_k].joint)
+            })
+            .min_by_key(|&i| passing[i].2)
+            .unwrap_or(best);
+        let (_, fit, k, metrics) = passing.swap_remove(best);
         let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
         let change = match &chosen {
             None => format!("{change} (misfit {fit:.2})"),
@@ -153,6 +166,24 @@ pub(crate) fn correct_failed(
     }
     Ok(chosen)
 }
+
+/// Two joints that move the same way about lines at most [`SQUARE_SNAP_RAD`] apart: the same
+/// kind, pivot and range, axes pointing the same way.
+fn same_motion_tilted(a: &Joint, b: &Joint) -> bool {
+    let (axis_a, axis_b) = (
+        DVec3::from_array(a.axis_in_object),
+        DVec3::from_array(b.axis_in_object),
+    );
+    a.kind == b.kind
+        && a.pivot_in_object_m == b.pivot_in_object_m
+        && a.limits == b.limits
+        && axis_a.dot(axis_b) > 0.0
+        && line_angle(axis_a, axis_b) <= SQUARE_SNAP_RAD
+}
+
+/// An earlier variant of the same motion about a nearby line ([`same_motion_tilted`]) is kept
+/// when its misfit is at most this much above the best one's.
+const SAME_MOTION_MISFIT: f64 = 0.05;
 
 /// How much a passing variant is preferred (smaller first): the better fit to the parts
 /// (`fit::misfit`, in steps of [`MISFIT_STEP`]), then the most margin (severity).
