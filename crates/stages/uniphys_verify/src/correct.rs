@@ -9,7 +9,9 @@
 //! through the held pin); the other kind of motion (slide for turn, turn for slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
-//! it by the share cut away), then the one with the most margin; a variant listed before it that
+//! it by the share cut away), then for a slide the one that stays on its parent longest (a
+//! drawer pulled out runs on its frame, one dropped out of it leaves it at once), then the one
+//! with the most margin; a variant listed before it that
 //! moves the same way about a line a few degrees off (a part's box axis before a contact axis
 //! near it) wins instead when it fits nearly as well. Across tiers the smaller
 //! change wins unless a later tier's, of the same kind of motion (a turn or a slide), fits the
@@ -101,12 +103,12 @@ pub(crate) fn correct_failed(
             sweep(scene, &variant.joint, moving, &screen)
         });
         // (preference on the screen, misfit, variant)
-        let mut screened: Vec<((i64, f64), f64, usize)> = Vec::new();
+        let mut screened: Vec<(Preference, f64, usize)> = Vec::new();
         for (k, (variant, m)) in tier.iter().zip(screens).enumerate() {
             let m = m?;
             if m.failures(&screen).is_empty() {
                 let f = fit(&m, &variant.joint);
-                screened.push((preference(f, m.severity(&screen)), f, k));
+                screened.push((preference(f, &m, &screen), f, k));
             }
         }
         screened.sort_by(|a, b| compare(a.0, b.0).then(a.2.cmp(&b.2)));
@@ -114,11 +116,11 @@ pub(crate) fn correct_failed(
         let full = parallel_map(&screened, |&(_, _, k)| {
             sweep(scene, &tier[k].joint, moving, params)
         });
-        let mut passing: Vec<((i64, f64), f64, usize, SweepMetrics)> = Vec::new();
+        let mut passing: Vec<(Preference, f64, usize, SweepMetrics)> = Vec::new();
         for (&(_, f, k), m) in screened.iter().zip(full) {
             let m = m?;
             if m.failures(params).is_empty() {
-                passing.push((preference(f, m.severity(params)), f, k, m));
+                passing.push((preference(f, &m, params), f, k, m));
             }
         }
         let Some(best) = (0..passing.len()).min_by(|&a, &b| compare(passing[a].0, passing[b].0))
@@ -185,16 +187,35 @@ fn same_motion_tilted(a: &Joint, b: &Joint) -> bool {
 /// when its misfit is at most this much above the best one's.
 const SAME_MOTION_MISFIT: f64 = 0.05;
 
-/// How much a passing variant is preferred (smaller first): the better fit to the parts
-/// (`fit::misfit`, in steps of [`MISFIT_STEP`]), then the most margin (severity).
-fn preference(misfit: f64, severity: f64) -> (i64, f64) {
-    ((misfit / MISFIT_STEP).round() as i64, severity)
+/// How much a passing variant is preferred, smaller first: its misfit in steps of
+/// [`MISFIT_STEP`], for a slide the share of its sweep out of contact with its parent in steps
+/// of [`LOST_CONTACT_STEP`], then its severity.
+type Preference = (i64, i64, f64);
+
+/// The [`Preference`] of a passing variant with `misfit` whose sweep measured `m`. Slides all
+/// fit alike (`fit::misfit` is 0 for them); one that runs along its parent (a drawer on its
+/// runners) is held over its travel, one that leaves it at once (a drawer dropped out of the
+/// frame it hangs in) by nothing.
+fn preference(misfit: f64, m: &SweepMetrics, params: &SweepParams) -> Preference {
+    let lost = if m.kind == JointKind::Prismatic {
+        m.lost_contact_steps as f64 / params.steps.max(1) as f64
+    } else {
+        0.0
+    };
+    (
+        (misfit / MISFIT_STEP).round() as i64,
+        (lost / LOST_CONTACT_STEP).round() as i64,
+        m.severity(params),
+    )
 }
 
 /// Orders two preferences.
-fn compare(a: (i64, f64), b: (i64, f64)) -> std::cmp::Ordering {
-    a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
+fn compare(a: Preference, b: Preference) -> std::cmp::Ordering {
+    a.0.cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.total_cmp(&b.2))
 }
+
+/// Steps in which slides' shares of their sweep out of contact are compared.
+const LOST_CONTACT_STEP: f64 = 0.05;
 
 /// Steps in which variants' misfits are compared: within one, the margin decides.
 const MISFIT_STEP: f64 = 0.01;

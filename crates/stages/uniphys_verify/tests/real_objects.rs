@@ -440,6 +440,25 @@ fn bucket_handles_turned_a_quarter_turn_hinge_on_their_attachments_again() {
     }
 }
 
+// A table's drawers hang under its top in a frame open below. Slid sideways into their
+// neighbours, they are caught; among the new axes, pulled out toward the front and dropped out of
+// the frame both pass and fit alike (slides have no hinge to fit). The drawer pulled out stays on
+// its frame all the way; dropped, it leaves it within a few steps.
+#[test]
+fn drawers_slid_sideways_are_pulled_out_again_not_dropped_out_of_their_frame() {
+    let o = object("kitchen-26387");
+    let drawers = o.movable();
+    for i in [drawers[0], drawers[2]] {
+        let truth = o.joints[i].clone();
+        let verdict = o.caught(i, sideways(&truth));
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, uniphys_types::JointKind::Prismatic, "{change}");
+        let same_way =
+            DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
+        assert!(same_way > 0.999, "{change}: {fixed:?}");
+    }
+}
+
 // A drawer hinged about its own slide axis, swung a quarter turn: about a line along its depth
 // through its side (where nothing stands below a drawer) it swings down freely. Its carcass walls
 // it in across that axis: what sits in a slot slides along it.
