@@ -98,6 +98,11 @@ pub struct SweepParams {
     /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
     /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
     pub long_slide_walled_sides_min: usize,
+    /// ... and one held only by lifting off that face lifts: on an object standing on the
+    /// ground, the direction it travels rises by at least this share (a lid lifted off its
+    /// pot). Pulled straight off a cabinet's front (a door made a slide) or dropped from under a
+    /// table's top (a drawer slid down out of its frame), nothing but the face held it.
+    pub long_slide_lift_rise_min: f64,
     /// A hinge (revolute) fails when its parent walls its moving parts in on at least this many
     /// of the four sides across its axis: they sit in a slot along the axis, which they slide
     /// along and do not turn about (the drawers of real objects: 2 to 4, mostly 3; true hinges:
@@ -168,6 +173,7 @@ impl Default for SweepParams {
             sheet_hinge_off_parent_max: 0.15,
             sheet_contact_fraction_min: 0.45,
             long_slide_walled_sides_min: 2,
+            long_slide_lift_rise_min: 0.5,
             hinge_slot_walled_sides_min: 3,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
@@ -271,6 +277,10 @@ pub struct SweepMetrics {
     /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
     /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
     pub long_slide_walled_sides: usize,
+    /// Long slides of an object standing on the ground: the vertical component of the unit
+    /// direction the part travels (toward the far end of its range; 1 straight up); `None`
+    /// otherwise.
+    pub long_slide_rise: Option<f64>,
     /// Hinges (revolute) whose axis does not cross the plane of a panel: how many of the four
     /// sides across the axis the parent walls the moving parts in on (a drawer turned about its
     /// depth: its slot); 0 for other joints.
@@ -446,6 +456,7 @@ pub fn sweep(
         short_slide_press: 1.0,
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
+        long_slide_rise: None,
         hinge_slot_walled_sides: 0,
         in_plane_turn: None,
         off_round_spin: None,
@@ -535,6 +546,14 @@ pub fn sweep(
     if short_slide == Some(None) {
         metrics.long_slide_walled_sides =
             walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+        if scene.ground_z_m.is_some() {
+            let outward = if upper.abs() >= lower.abs() {
+                1.0
+            } else {
+                -1.0
+            };
+            metrics.long_slide_rise = Some(outward * motion.axis_in_object.normalize_or_zero().z);
+        }
     }
     // A hinge must not turn a part about the axis of the slot it sits in (a drawer about its
     // depth); a panel turned about its own normal is judged in the plane it turns in.

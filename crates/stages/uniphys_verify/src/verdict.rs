@@ -29,7 +29,8 @@ impl SweepMetrics {
     ///   `hinge_slot_walled_sides_min` sides across it: a drawer turned about its depth);
     /// - long slides: the part runs in no slot of its parent (walled in on too few sides across
     ///   the axis) and does not lift off the face it sits on (a door or lid pushed along its
-    ///   own face);
+    ///   own face), or, on an object standing on the ground, lifts off it without rising (a
+    ///   door pulled straight off a cabinet's front);
     /// - hinges (revolute): the moving colliders sink into the still ones by more than
     ///   `hinge_sink_mean_max` penetration tolerances on average over the sweep (a door swung
     ///   into its own hollow cabinet, which no surface crossing shows when the door is inset);
@@ -156,12 +157,19 @@ impl SweepMetrics {
             ));
         }
         if self.long_slide_unheld(params) {
+            let held = match self.long_slide_sideways(params) {
+                Some(rise) if self.short_slide_press >= params.short_slide_press_min => format!(
+                    "it lifts off the face it sits on rising {rise:.2} of its travel (at least {:.2}): only a part lifted up off a face is held by it",
+                    params.long_slide_lift_rise_min
+                ),
+                _ => format!(
+                    "it presses into the face it sits on {:.2} (at least {:.2})",
+                    self.short_slide_press, params.short_slide_press_min
+                ),
+            };
             reasons.push(format!(
-                "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and it presses into the face it sits on {:.2} (at least {:.2})",
-                self.long_slide_walled_sides,
-                params.long_slide_walled_sides_min,
-                self.short_slide_press,
-                params.short_slide_press_min
+                "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and {held}",
+                self.long_slide_walled_sides, params.long_slide_walled_sides_min,
             ));
         }
         if self.short_slide_left_parent() {
@@ -367,10 +375,17 @@ impl SweepMetrics {
             && self.hinge_slot_walled_sides >= params.hinge_slot_walled_sides_min
     }
 
-    /// A long slide runs in no slot and does not lift off the face it sits on.
+    /// A long slide runs in no slot and does not lift up off the face it sits on.
     fn long_slide_unheld(&self, params: &SweepParams) -> bool {
         self.long_slide_walled_sides < params.long_slide_walled_sides_min
-            && self.short_slide_press < params.short_slide_press_min
+            && (self.short_slide_press < params.short_slide_press_min
+                || self.long_slide_sideways(params).is_some())
+    }
+
+    /// How much a long slide on the ground rises, when it rises less than a lift must.
+    fn long_slide_sideways(&self, params: &SweepParams) -> Option<f64> {
+        self.long_slide_rise
+            .filter(|&rise| rise < params.long_slide_lift_rise_min)
     }
 
     /// A short slide moved its part away from its parent by more than it may.
@@ -453,6 +468,10 @@ impl SweepMetrics {
             .chain(
                 self.sheet_hinge_off_parent
                     .map(|f| ("sheet_hinge_off_parent".to_owned(), f)),
+            )
+            .chain(
+                self.long_slide_rise
+                    .map(|r| ("long_slide_rise".to_owned(), r)),
             )
             .chain(self.in_plane_turn.into_iter().flat_map(|t| {
                 [

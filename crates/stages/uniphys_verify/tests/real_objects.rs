@@ -4,7 +4,9 @@
 //! and put back. `scripts/bench` (verify-bench) measures the whole set.
 
 use uniphys_examples::shared_partnet_object;
-use uniphys_geometry::{Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition, parallel_map};
+use uniphys_geometry::{
+    Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition, parallel_map, projection_range,
+};
 use uniphys_mesh_io::{IngestOptions, load_asset};
 use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
 use uniphys_verify::{JointVerdict, Scene, SweepParams, verify_joint};
@@ -456,6 +458,46 @@ fn drawers_slid_sideways_are_pulled_out_again_not_dropped_out_of_their_frame() {
         let same_way =
             DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
         assert!(same_way > 0.999, "{change}: {fixed:?}");
+    }
+}
+
+// A cabinet's door made a slide along its hinge line is caught; among the new axes, pulled
+// straight off the cabinet's front passed (it lifts off the face it sits on, as a lid does, and
+// hits nothing). Only a lift up off a face is held by it: the door is hinged on its line again,
+// opening the true way.
+#[test]
+fn cabinet_doors_made_slides_are_hinged_on_their_line_again() {
+    for name in ["kitchen-41085", "kitchen-46166"] {
+        let o = object(name);
+        for i in o.movable() {
+            let truth = o.joints[i].clone();
+            let axis = DVec3::from_array(truth.axis_in_object).normalize();
+            let (lo, hi) = projection_range(&o.scene.points_of(&[truth.child.0 as usize]), axis);
+            let slide = Joint {
+                kind: uniphys_types::JointKind::Prismatic,
+                limits: Some(JointLimits {
+                    lower: 0.0,
+                    upper: 0.5 * (hi - lo),
+                }),
+                ..truth.clone()
+            };
+            let verdict = o.caught(i, slide);
+            assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+            let (fixed, change) = verdict.correction.expect("corrected");
+            assert_eq!(fixed.kind, truth.kind, "{change}");
+            let way = DVec3::from_array(fixed.axis_in_object).dot(axis).signum();
+            let (f, t) = (fixed.limits.expect("range"), truth.limits.expect("range"));
+            let (f_lo, f_hi) = if way > 0.0 {
+                (f.lower, f.upper)
+            } else {
+                (-f.upper, -f.lower)
+            };
+            let overlap = f_hi.min(t.upper) - f_lo.max(t.lower);
+            assert!(
+                overlap > 0.5 * (t.upper - t.lower),
+                "{name} {i}: {change}: {f:?} against {t:?}"
+            );
+        }
     }
 }
 
