@@ -11,14 +11,14 @@
 //! Within a tier the passing variant that fits the parts best wins (a range cut counts against
 //! it by the share cut away), then for a slide the one that stays on its parent longest (a
 //! drawer pulled out runs on its frame, one dropped out of it leaves it at once), then the one
-//! with the most margin; a variant listed before it that
-//! moves the same way about a line a few degrees off (a part's box axis before a contact axis
-//! near it) wins instead when it fits nearly as well. Across tiers the smaller
-//! change wins unless a later tier's, of the same kind of motion (a turn or a slide), fits the
-//! parts clearly better (`fit::misfit`: a hinge along its parent and across from the handle, a
-//! spin about the part's own round axis); a correction that fits well ends the search. A joint
-//! that nearly passed only has its range changed; a failure late in the range is cut before
-//! the range is reversed.
+//! with the most margin; a variant listed before it that moves the same way about a line a few
+//! degrees off (a part's box axis before a contact axis near it) wins instead when it fits
+//! nearly as well. Across tiers the smaller change wins unless a later tier's, of the same kind
+//! of motion (a turn or a slide), fits the parts clearly better (`fit::misfit`: a hinge along
+//! its parent and across from the handle, a spin about the part's own round axis); a
+//! correction that fits well ends the search. A joint that nearly passed keeps its axis: its
+//! range changes, or, when that fits the parts poorly (a door reversed about its handle's
+//! edge), its pivot; a failure late in the range is cut before the range is reversed.
 
 use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
@@ -155,7 +155,7 @@ pub(crate) fn correct_failed(
             }
             Some(_) => continue,
         };
-        let done = nearly_passed || fit <= MISFIT_MARGIN;
+        let done = fit <= MISFIT_MARGIN;
         chosen = Some(Correction {
             joint,
             change,
@@ -284,10 +284,6 @@ fn tiers(
     } else {
         tiers.extend([reverse_tier, cut_tier]);
     }
-    if nearly_passed {
-        return tiers;
-    }
-
     let moving_points = scene.points_of(moving);
     let parent_points = scene.points_of(&[joint.parent.0 as usize]);
     let candidates = articulation_candidates(
@@ -310,7 +306,8 @@ fn tiers(
     }
 
     // 3. A part that spins in place: the line it is round about, both ways.
-    if may_spin(joint)
+    if !nearly_passed
+        && may_spin(joint)
         && let Some((a, p, residual)) = round_axis(
             &moving_points,
             &[axis, part_axes[0], part_axes[1], part_axes[2]],
@@ -350,6 +347,10 @@ fn tiers(
                     .collect(),
             );
         }
+    }
+    // A joint that nearly passed keeps its axis.
+    if nearly_passed {
+        return tiers;
     }
     // 5. Another axis, both ways: for a slide first the normal of the face it touches and the
     // axis of walls around it (a press, a guided slide), then the square directions near the
