@@ -4,6 +4,7 @@
 //! |---|---|
 //! | `model.urdf` | URDF for PyBullet, MuJoCo's importer, Isaac Sim, SAPIEN |
 //! | `model.xml` | MJCF for MuJoCo |
+//! | `model.usda` | USD stage with UsdPhysics for Isaac Sim and Isaac Lab (visuals in the link's colour) |
 //! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame |
 //! | `meshes/part_<id>_collision_<k>.obj` | convex collision hulls, in the link frame |
 //! | `parts/part_<id>.obj`, `.mtl`, `texture_<t>.png` | part meshes in the object frame with UVs, materials and textures (UniPhys-40K layout) |
@@ -24,6 +25,7 @@ mod part_files;
 mod record;
 mod report;
 mod urdf;
+mod usd;
 mod xml;
 
 pub use artifact::Artifact;
@@ -75,6 +77,10 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
     let mut artifacts = vec![
         Artifact::new("model.urdf", urdf::write_urdf(&model).into_bytes()),
         Artifact::new("model.xml", mjcf::write_mjcf(&model).into_bytes()),
+        Artifact::new(
+            "model.usda",
+            usd::write_usda(&model, input.part_meshes, input.colliders).into_bytes(),
+        ),
     ];
     for (i, link) in model.links.iter().enumerate() {
         artifacts.push(Artifact::new(

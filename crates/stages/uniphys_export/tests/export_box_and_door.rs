@@ -231,3 +231,52 @@ fn export_rejects_inputs_that_do_not_match_the_record() {
     .unwrap_err();
     assert!(err.to_string().contains("2 parts but 1 meshes"), "{err}");
 }
+
+#[test]
+fn usd_stage_places_the_door_joint_about_x_turned_onto_its_axis_with_limits_in_degrees() {
+    let out = run_export();
+    let usd = text(&out, "model.usda");
+    assert!(usd.starts_with("#usda 1.0\n"));
+    assert!(usd.contains("metersPerUnit = 1\n") && usd.contains("upAxis = \"Z\"\n"));
+    let joint = &usd[usd
+        .find(r#"def PhysicsRevoluteJoint "hinge_door""#)
+        .expect("the door's joint")..];
+    let joint = &joint[..joint.find("\n    }\n").expect("end of the joint")];
+    assert!(
+        joint.contains("rel physics:body0 = </box_door/part_0_body>"),
+        "{joint}"
+    );
+    assert!(
+        joint.contains("rel physics:body1 = </box_door/part_1_door>"),
+        "{joint}"
+    );
+    assert!(
+        joint.contains("point3f physics:localPos0 = (-0.3, -0.21, 0.3)"),
+        "{joint}"
+    );
+    // +X turned onto +Z: a quarter turn about -Y.
+    assert!(
+        joint.contains("quatf physics:localRot0 = (0.7071067812, 0, -0.7071067812, 0)"),
+        "{joint}"
+    );
+    assert!(joint.contains("float physics:lowerLimit = 0\n"), "{joint}");
+    assert!(
+        joint.contains("float physics:upperLimit = 85.94366927\n"),
+        "{joint}"
+    );
+    // 0.2 N m s per radian is 0.00349 per degree.
+    assert!(
+        joint.contains("float drive:angular:physics:damping = 0.003490658504\n"),
+        "{joint}"
+    );
+    assert!(
+        joint.contains("float drive:angular:physics:stiffness = 0\n"),
+        "{joint}"
+    );
+    assert!(usd.contains("def PhysicsFixedJoint \"world_fixed\""));
+    assert_eq!(
+        usd.matches("\"PhysicsCollisionAPI\"").count(),
+        2,
+        "one hull per part"
+    );
+}

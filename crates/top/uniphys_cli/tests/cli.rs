@@ -48,6 +48,7 @@ fn run_writes_the_simulation_ready_files_and_exits_zero() {
     for file in [
         "model.urdf",
         "model.xml",
+        "model.usda",
         "report.json",
         "record.json",
         "annotations/object.json",
