@@ -72,15 +72,12 @@ fn write_link(s: &mut String, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) 
     );
     let _ = writeln!(
         s,
-        "        float physics:mass = {}\n        point3f physics:centerOfMass = {}\n        float3 physics:diagonalInertia = {}\n        quatf physics:principalAxes = {}",
+        "        float physics:mass = {}\n        point3f physics:centerOfMass = {}\n        float3 physics:diagonalInertia = ({}, {}, {})\n        quatf physics:principalAxes = {}",
         num(link.mass_kg),
         point(link.com_in_link),
-        format!(
-            "({}, {}, {})",
-            num(moments.x.max(0.0)),
-            num(moments.y.max(0.0)),
-            num(moments.z.max(0.0))
-        ),
+        num(moments.x.max(0.0)),
+        num(moments.y.max(0.0)),
+        num(moments.z.max(0.0)),
         quat(axes)
     );
     let [r, g, b, _] = link.rgba;
