@@ -362,6 +362,23 @@ fn assert_restored_to_true_line(verdict: &JointVerdict, truth: &Joint, diagonal:
     );
 }
 
+/// The corrected joint's range, read along the true axis (reversed when its axis points the
+/// other way), overlaps the true range by more than half of it.
+fn assert_range_overlaps_truth(fixed: &Joint, truth: &Joint, context: &str) {
+    let way = DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
+    let (f, t) = (fixed.limits.expect("range"), truth.limits.expect("range"));
+    let (lo, hi) = if way > 0.0 {
+        (f.lower, f.upper)
+    } else {
+        (-f.upper, -f.lower)
+    };
+    let overlap = hi.min(t.upper) - lo.max(t.lower);
+    assert!(
+        overlap > 0.5 * (t.upper - t.lower),
+        "{context}: {f:?} against {t:?}"
+    );
+}
+
 /// Diagonal of the box of part `part`'s samples, metres.
 fn part_diagonal(o: &Object, part: u32) -> f64 {
     Aabb::from_points(&o.scene.points_of(&[part as usize])).diagonal()
@@ -484,18 +501,7 @@ fn cabinet_doors_made_slides_are_hinged_on_their_line_again() {
             assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
             let (fixed, change) = verdict.correction.expect("corrected");
             assert_eq!(fixed.kind, truth.kind, "{change}");
-            let way = DVec3::from_array(fixed.axis_in_object).dot(axis).signum();
-            let (f, t) = (fixed.limits.expect("range"), truth.limits.expect("range"));
-            let (f_lo, f_hi) = if way > 0.0 {
-                (f.lower, f.upper)
-            } else {
-                (-f.upper, -f.lower)
-            };
-            let overlap = f_hi.min(t.upper) - f_lo.max(t.lower);
-            assert!(
-                overlap > 0.5 * (t.upper - t.lower),
-                "{name} {i}: {change}: {f:?} against {t:?}"
-            );
+            assert_range_overlaps_truth(&fixed, &truth, &format!("{name} {i}: {change}"));
         }
     }
 }
@@ -525,12 +531,7 @@ fn a_drawer_turned_about_its_slide_axis_is_caught_and_slides_again() {
         let same_way =
             DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
         assert!(same_way > 0.999, "{change}: {fixed:?}");
-        let (f, t) = (fixed.limits.expect("range"), truth.limits.expect("range"));
-        let overlap = f.upper.min(t.upper) - f.lower.max(t.lower);
-        assert!(
-            overlap > 0.5 * (t.upper - t.lower),
-            "{change}: {f:?} against {t:?}"
-        );
+        assert_range_overlaps_truth(&fixed, &truth, &change);
     }
 }
 
