@@ -97,7 +97,11 @@ pub(crate) fn correct_failed(
     let fit =
         |m: &SweepMetrics, j: &Joint| misfit(scene, j, &moving_points, m) + cut_penalty(joint, j);
     let mut chosen: Option<Correction> = None;
-    for tier in tiers(scene, joint, moving, params, original, nearly_passed) {
+    let later = std::iter::once_with(|| change_tiers(scene, joint, moving, params, nearly_passed));
+    for tier in range_tiers(joint, original)
+        .into_iter()
+        .chain(later.flatten())
+    {
         // Sweeps are independent: each list runs on all cores, and is read in order.
         let screens = parallel_map(&tier, |variant| {
             sweep(scene, &variant.joint, moving, &screen)
@@ -220,40 +224,42 @@ const LOST_CONTACT_STEP: f64 = 0.05;
 /// Steps in which variants' misfits are compared: within one, the margin decides.
 const MISFIT_STEP: f64 = 0.01;
 
-/// The variants of `joint`, in tiers of growing change.
-fn tiers(
-    scene: &Scene,
+/// `joint` with another kind, axis, pivot and range.
+fn changed(
     joint: &Joint,
-    moving: &[usize],
-    params: &SweepParams,
-    original: &SweepMetrics,
-    nearly_passed: bool,
-) -> Vec<Vec<Variant>> {
-    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
-    let pivot = DVec3::from_array(joint.pivot_in_object_m);
-    let child_points = scene.points_of(&[joint.child.0 as usize]);
-    let part_axes = box_axes(&child_points);
-    let limits = joint.limits;
-    let with = |kind: JointKind, a: DVec3, p: DVec3, limits: Option<JointLimits>| {
-        let mut j = joint.clone();
-        j.kind = kind;
-        j.axis_in_object = a.to_array();
-        j.pivot_in_object_m = p.to_array();
-        j.limits = limits;
-        j
-    };
-    let range = |lower: f64, upper: f64| Some(JointLimits { lower, upper });
-    let reversed = limits.map(|l| JointLimits {
+    kind: JointKind,
+    axis: DVec3,
+    pivot: DVec3,
+    limits: Option<JointLimits>,
+) -> Joint {
+    let mut j = joint.clone();
+    j.kind = kind;
+    j.axis_in_object = axis.to_array();
+    j.pivot_in_object_m = pivot.to_array();
+    j.limits = limits;
+    j
+}
+
+/// A range run the other way.
+fn reversed(limits: Option<JointLimits>) -> Option<JointLimits> {
+    limits.map(|l| JointLimits {
         lower: -l.upper,
         upper: -l.lower,
-    });
-    let mut tiers: Vec<Vec<Variant>> = Vec::new();
+    })
+}
+
+/// The variants of `joint` that change only its range (tiers 1 and 2).
+fn range_tiers(joint: &Joint, original: &SweepMetrics) -> Vec<Vec<Variant>> {
+    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let limits = joint.limits;
+    let with = |kind, a, p, limits| changed(joint, kind, a, p, limits);
 
     // 1-2. The other way, and as far as the sweep went before it failed: the cut first when the
     // failure comes late (the part closes onto something past a limit that overshoots), the
     // reversal first when it comes early (the part moves into its parent at once).
     let mut reverse_tier = Vec::new();
-    if let Some(r) = reversed {
+    if let Some(r) = reversed(limits) {
         reverse_tier.push(Variant {
             joint: with(joint.kind, axis, pivot, Some(r)),
             change: format!("range reversed to [{:.4}, {:.4}]", r.lower, r.upper),
@@ -271,7 +277,15 @@ fn tiers(
         };
         if cut.1 - cut.0 > 0.25 * (l.upper - l.lower) {
             cut_tier.push(Variant {
-                joint: with(joint.kind, axis, pivot, range(cut.0, cut.1)),
+                joint: with(
+                    joint.kind,
+                    axis,
+                    pivot,
+                    Some(JointLimits {
+                        lower: cut.0,
+                        upper: cut.1,
+                    }),
+                ),
                 change: format!(
                     "range cut to [{:.4}, {:.4}] where the sweep first failed",
                     cut.0, cut.1
@@ -280,10 +294,30 @@ fn tiers(
         }
     }
     if late {
-        tiers.extend([cut_tier, reverse_tier]);
+        vec![cut_tier, reverse_tier]
     } else {
-        tiers.extend([reverse_tier, cut_tier]);
+        vec![reverse_tier, cut_tier]
     }
+}
+
+/// The variants of `joint` after its range (tiers 3 on): built only when no range change ended
+/// the search, since they need the articulation candidates of its contact.
+fn change_tiers(
+    scene: &Scene,
+    joint: &Joint,
+    moving: &[usize],
+    params: &SweepParams,
+    nearly_passed: bool,
+) -> Vec<Vec<Variant>> {
+    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
+    let part_axes = box_axes(&child_points);
+    let limits = joint.limits;
+    let reversed = reversed(limits);
+    let with = |kind, a, p, limits| changed(joint, kind, a, p, limits);
+    let range = |lower: f64, upper: f64| Some(JointLimits { lower, upper });
+    let mut tiers: Vec<Vec<Variant>> = Vec::new();
     let moving_points = scene.points_of(moving);
     let parent_points = scene.points_of(&[joint.parent.0 as usize]);
     let candidates = articulation_candidates(
