@@ -58,10 +58,9 @@ pub(crate) struct BodyState {
 /// Colliders closer than this share of the object's diagonal get speculative contacts (rapier's
 /// `normalized_prediction_distance`; the engine's length unit is the diagonal). Rapier's default,
 /// 0.02, reaches 4 cm on a 2 m object: each control in a row of buttons or knobs then keeps
-/// speculative contacts with its neighbours' hulls, hundreds of multibody contact constraints
-/// solved every step (most of a drive's time on a camera with nine controls), and an oven's row
-/// of knobs exploded at rest. 0.005 is 1 cm on a 2 m object, two to three steps of a 1 m door
-/// driven at 1 rad/s at 240 Hz.
+/// speculative contacts with its neighbours' hulls: hundreds of multibody contact constraints
+/// solved every step, most of a drive's time on a camera with nine controls. 0.005 is 1 cm on a
+/// 2 m object, two to three steps of a 1 m door driven at 1 rad/s at 240 Hz.
 const PREDICTION_DISTANCE_FRACTION: Real = 0.005;
 
 impl Scene {
