@@ -150,15 +150,10 @@ fn write_mesh(
 /// child's anchor.
 fn write_joint(s: &mut String, root: &str, prim_name: &str, model: &Model<'_>, joint: &Joint) {
     let (parent, child) = (model.link(joint.parent), model.link(joint.child));
-    let prim = match joint.kind {
-        JointKind::Revolute | JointKind::Continuous => "PhysicsRevoluteJoint",
-        JointKind::Prismatic => "PhysicsPrismaticJoint",
-        JointKind::Fixed => "PhysicsFixedJoint",
-    };
-    let drive = match joint.kind {
-        JointKind::Revolute | JointKind::Continuous => Some("angular"),
-        JointKind::Prismatic => Some("linear"),
-        JointKind::Fixed => None,
+    let (prim, drive) = match joint.kind {
+        JointKind::Revolute | JointKind::Continuous => ("PhysicsRevoluteJoint", Some("angular")),
+        JointKind::Prismatic => ("PhysicsPrismaticJoint", Some("linear")),
+        JointKind::Fixed => ("PhysicsFixedJoint", None),
     };
     let _ = write!(s, "    def {prim} \"{prim_name}\"");
     if let Some(drive) = drive {

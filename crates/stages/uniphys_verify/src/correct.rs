@@ -240,6 +240,11 @@ fn changed(
     j
 }
 
+/// The range `[lower, upper]`.
+fn range(lower: f64, upper: f64) -> Option<JointLimits> {
+    Some(JointLimits { lower, upper })
+}
+
 /// A range run the other way.
 fn reversed(limits: Option<JointLimits>) -> Option<JointLimits> {
     limits.map(|l| JointLimits {
@@ -277,15 +282,7 @@ fn range_tiers(joint: &Joint, original: &SweepMetrics) -> Vec<Vec<Variant>> {
         };
         if cut.1 - cut.0 > 0.25 * (l.upper - l.lower) {
             cut_tier.push(Variant {
-                joint: with(
-                    joint.kind,
-                    axis,
-                    pivot,
-                    Some(JointLimits {
-                        lower: cut.0,
-                        upper: cut.1,
-                    }),
-                ),
+                joint: with(joint.kind, axis, pivot, range(cut.0, cut.1)),
                 change: format!(
                     "range cut to [{:.4}, {:.4}] where the sweep first failed",
                     cut.0, cut.1
@@ -316,7 +313,6 @@ fn change_tiers(
     let limits = joint.limits;
     let reversed = reversed(limits);
     let with = |kind, a, p, limits| changed(joint, kind, a, p, limits);
-    let range = |lower: f64, upper: f64| Some(JointLimits { lower, upper });
     let mut tiers: Vec<Vec<Variant>> = Vec::new();
     let moving_points = scene.points_of(moving);
     let parent_points = scene.points_of(&[joint.parent.0 as usize]);
