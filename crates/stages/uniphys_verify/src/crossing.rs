@@ -62,6 +62,34 @@ impl Surfaces {
         }
     }
 
+    /// The smallest distance from `points` (object frame) to the surface of `part`, metres
+    /// (infinite without a surface or points); the same as the least [`Self::distance_m`], found
+    /// with each query bounded by the nearest so far, so most stop near the top of the hierarchy.
+    pub(crate) fn nearest_distance_m(
+        &self,
+        part: usize,
+        points: impl IntoIterator<Item = DVec3>,
+    ) -> f64 {
+        let Some(s) = self.parts.get(part).and_then(Option::as_ref) else {
+            return f64::INFINITY;
+        };
+        let mut nearest_m = f32::MAX;
+        for point in points {
+            let local = to_f32(point - self.origin);
+            if let Some(projection) = s
+                .mesh
+                .project_local_point_with_max_dist(local, false, nearest_m)
+            {
+                nearest_m = nearest_m.min((local - projection.point).length());
+            }
+        }
+        if nearest_m == f32::MAX {
+            f64::INFINITY
+        } else {
+            f64::from(nearest_m)
+        }
+    }
+
     /// Unit normal of the triangle of `part` nearest to `point` (object frame), if one lies
     /// within `max_distance_m`.
     pub(crate) fn nearest_normal(
@@ -345,6 +373,42 @@ impl Crossings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_nearest_distance_of_many_points_is_the_least_of_their_distances() {
+        // A folded sheet (two quads at a right angle) and points around it on a spiral.
+        let sheet = TriMesh::new(
+            vec![
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+                DVec3::new(1.0, 0.0, 1.0),
+                DVec3::new(1.0, 1.0, 1.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]],
+        )
+        .expect("sheet");
+        let s = Surfaces::new(&[sheet], DVec3::new(0.5, 0.5, 0.0));
+        let points: Vec<DVec3> = (0..200)
+            .map(|i| {
+                let t = f64::from(i) * 0.1;
+                DVec3::new(0.5 + 0.8 * t.cos(), 0.5 + 0.8 * t.sin(), 0.3 + 0.02 * t)
+            })
+            .collect();
+        let least = points
+            .iter()
+            .map(|p| s.distance_m(0, *p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(least > 0.0 && least < 0.5, "{least}");
+        assert_eq!(s.nearest_distance_m(0, points.iter().copied()), least);
+        assert_eq!(s.nearest_distance_m(0, points.iter().rev().copied()), least);
+        assert_eq!(s.nearest_distance_m(0, []), f64::INFINITY);
+        assert_eq!(
+            s.nearest_distance_m(1, points.iter().copied()),
+            f64::INFINITY
+        );
+    }
 
     #[test]
     fn a_segment_through_a_single_sided_quad_crosses_it_once() {

@@ -138,9 +138,7 @@ const HINGE_SAMPLES: usize = 20;
 
 /// The smallest distance from `points` (every fourth) to the surface of `parent`, metres.
 pub(crate) fn gap_to_parent_m(scene: &Scene, parent: usize, points: &[DVec3]) -> f64 {
-    points
-        .iter()
-        .step_by(4)
-        .map(|p| scene.surfaces.distance_m(parent, *p))
-        .fold(f64::INFINITY, f64::min)
+    scene
+        .surfaces
+        .nearest_distance_m(parent, points.iter().step_by(4).copied())
 }
