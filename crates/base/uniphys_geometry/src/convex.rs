@@ -13,7 +13,8 @@ use crate::{
 pub struct ConvexParams {
     /// Most hulls returned for the whole mesh.
     pub max_hulls: usize,
-    /// Voxel resolution of the solid volume estimate and of V-HACD.
+    /// Voxels across a component for its solid volume estimate, and across the whole mesh for
+    /// V-HACD (a component is cut at the mesh's voxel size, with at least 16 voxels across it).
     pub voxel_resolution: u32,
     /// How much a component's hull volume may exceed its solid volume (relative) before the
     /// component is decomposed; also V-HACD's concavity threshold.
@@ -49,8 +50,8 @@ impl Hull {
 /// The mesh is split into connected components ([`connected_components`]). A component whose
 /// convex hull exceeds its solid volume ([`solid_mass_properties`]) by at most
 /// `concavity_tolerance` is replaced by that hull; any other is decomposed by parry3d's V-HACD
-/// (hull of the mesh clipped to each part, or of the part's voxels where that fails; the
-/// component's single hull if V-HACD fails altogether). A flat component (a zero-thickness
+/// at the mesh's voxel size (hull of the mesh clipped to each part, or of the part's voxels where
+/// that fails; the component's single hull if V-HACD fails altogether). A flat component (a zero-thickness
 /// panel) gets a slab 1 % of its size thick; hulls below 1e-6
 /// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
 /// the smallest is merged into the hull whose bounds are nearest its centre (the hull of both
@@ -101,20 +102,28 @@ pub fn convex_decompositions(
     });
     // V-HACD on the first component of each concave shape, on all cores; its hulls moved onto
     // the later copies.
-    let frames: Vec<&ComponentFrame> = judged
+    let mesh_extents: Vec<f64> = meshes.iter().map(|m| m.bounds().max_extent()).collect();
+    let (frames, resolutions): (Vec<&ComponentFrame>, Vec<u32>) = components
         .iter()
-        .filter_map(|j| match j {
-            Judged::Concave { frame, .. } => Some(frame.as_ref()),
+        .zip(&judged)
+        .filter_map(|((mesh, _), j)| match j {
+            Judged::Concave { frame, .. } => Some((
+                frame.as_ref(),
+                component_resolution(params.voxel_resolution, frame.extent(), mesh_extents[*mesh]),
+            )),
             Judged::Done(_) => None,
         })
-        .collect();
+        .unzip();
     let first = first_copies(&frames);
     let (originals, copies): (Vec<usize>, Vec<usize>) =
         (0..frames.len()).partition(|&k| first[k] == k);
     let mut outcomes: Vec<Option<Vec<Hull>>> = frames.iter().map(|_| None).collect();
     let finished = AtomicUsize::new(0);
     let runs = parallel_map(&originals, |&k| {
-        let hulls = frames[k].decompose(params);
+        let hulls = frames[k].decompose(&ConvexParams {
+            voxel_resolution: resolutions[k],
+            ..*params
+        });
         progress(
             finished.fetch_add(1, Ordering::Relaxed) + 1,
             originals.len(),
@@ -166,6 +175,28 @@ pub fn convex_decompositions(
             Ok(hulls.into_iter().map(|h| h.mesh).collect())
         })
         .collect())
+}
+
+/// The fewest voxels across a component V-HACD decomposes.
+const MIN_COMPONENT_RESOLUTION: u32 = 16;
+
+/// V-HACD's resolution for a component of largest extent `component_m` in a mesh of largest
+/// extent `mesh_m`: `resolution` voxels across the whole mesh, so a component gets the mesh's
+/// voxel size (a handle on a door is cut as finely as the door, not 64 voxels across the handle
+/// alone), and at least [`MIN_COMPONENT_RESOLUTION`] across itself.
+fn component_resolution(resolution: u32, component_m: f64, mesh_m: f64) -> u32 {
+    let share = if mesh_m > 0.0 {
+        (component_m / mesh_m).min(1.0)
+    } else {
+        1.0
+    };
+    #[expect(
+        clippy::cast_possible_truncation,
+        clippy::cast_sign_loss,
+        reason = "share is in [0, 1]"
+    )]
+    let scaled = (f64::from(resolution) * share).ceil() as u32;
+    scaled.clamp(MIN_COMPONENT_RESOLUTION.min(resolution), resolution)
 }
 
 /// What a connected component needs.
@@ -325,13 +356,13 @@ mod tests {
     #[test]
     fn components_decomposed_on_all_cores_come_back_in_mesh_order() {
         // Three concave components of different shapes (so none is a copy of another), each
-        // further along x: the hulls of the whole are those of each component alone, in the
-        // order of the components.
+        // further along x: the hulls of the whole are those of each component alone at the
+        // whole's voxel size, in the order of the components.
         let params = ConvexParams {
             max_hulls: 64,
             ..ConvexParams::default()
         };
-        let pieces: Vec<TriMesh> = [(0.0, 1.0), (5.0, 1.2), (10.0, 1.4)]
+        let pieces: Vec<TriMesh> = [(0.0, 1.0), (2.5, 1.2), (5.0, 1.4)]
             .iter()
             .map(|(x, stretch)| {
                 l_prism().transformed(&DMat4::from_scale_rotation_translation(
@@ -341,10 +372,23 @@ mod tests {
                 ))
             })
             .collect();
-        let whole = convex_decomposition(&TriMesh::merge(&pieces), &params).unwrap();
+        let whole_mesh = TriMesh::merge(&pieces);
+        let whole = convex_decomposition(&whole_mesh, &params).unwrap();
         let alone: Vec<TriMesh> = pieces
             .iter()
-            .flat_map(|p| convex_decomposition(p, &params).unwrap())
+            .flat_map(|p| {
+                let voxel_resolution = component_resolution(
+                    params.voxel_resolution,
+                    p.bounds().max_extent(),
+                    whole_mesh.bounds().max_extent(),
+                );
+                assert!(voxel_resolution < params.voxel_resolution);
+                let at_whole_voxel = ConvexParams {
+                    voxel_resolution,
+                    ..params
+                };
+                convex_decomposition(p, &at_whole_voxel).unwrap()
+            })
             .collect();
         assert!(alone.len() >= 6, "{}", alone.len());
         assert_eq!(whole, alone);
@@ -396,6 +440,49 @@ mod tests {
                     .fold(f64::MAX, f64::min);
                 assert!(nearest < 1e-6, "{p} is {nearest} from the moved corners");
             }
+        }
+    }
+
+    #[test]
+    fn a_component_is_cut_at_its_mesh_voxel_size_and_never_coarser_than_16_across() {
+        assert_eq!(component_resolution(64, 2.0, 2.0), 64);
+        assert_eq!(component_resolution(64, 0.5, 1.0), 32);
+        assert_eq!(component_resolution(64, 0.01, 1.0), 16);
+        assert_eq!(component_resolution(8, 0.01, 1.0), 8);
+        assert_eq!(component_resolution(64, 1.0, 0.0), 64);
+        // A small concave piece beside a large one (a handle on a door) is decomposed as it would
+        // be alone at 16 voxels across; the large one as alone.
+        let params = ConvexParams {
+            max_hulls: 64,
+            ..ConvexParams::default()
+        };
+        // The L spans 2 m; the small one, a tenth of it, stands clear above it.
+        let large = l_prism();
+        let small = l_prism().transformed(
+            &(DMat4::from_translation(DVec3::new(0.0, 0.0, 1.5))
+                * DMat4::from_scale(DVec3::splat(0.1))),
+        );
+        let both = TriMesh::merge(&[large.clone(), small.clone()]);
+        let hulls = convex_decomposition(&both, &params).unwrap();
+        let alone = |mesh: &TriMesh, voxel_resolution| {
+            convex_decomposition(
+                mesh,
+                &ConvexParams {
+                    voxel_resolution,
+                    ..params
+                },
+            )
+            .unwrap()
+        };
+        let (large_alone, small_at_16) = (alone(&large, 64), alone(&small, 16));
+        assert_ne!(
+            small_at_16,
+            alone(&small, 64),
+            "the L is cut differently at 16 and 64"
+        );
+        assert_eq!(hulls.len(), large_alone.len() + small_at_16.len());
+        for hull in large_alone.iter().chain(&small_at_16) {
+            assert!(hulls.contains(hull));
         }
     }
 

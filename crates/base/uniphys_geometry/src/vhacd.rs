@@ -57,6 +57,11 @@ impl ComponentFrame {
         }
     }
 
+    /// Largest extent of the component, metres.
+    pub(crate) fn extent(&self) -> f64 {
+        self.extent
+    }
+
     /// A point of this frame in the object frame.
     fn object_point(&self, v: DVec3) -> DVec3 {
         self.centroid + self.box_from_object.transpose() * v
