@@ -90,6 +90,17 @@ impl Surfaces {
         }
     }
 
+    /// Distance from `point` (object frame) to the surface of `part`, metres, if it is at most
+    /// `max_m` (a bounded query: a far point costs a few box tests).
+    pub(crate) fn distance_within_m(&self, part: usize, point: DVec3, max_m: f64) -> Option<f64> {
+        let s = self.parts.get(part)?.as_ref()?;
+        let local = to_f32(point - self.origin);
+        let projection = s
+            .mesh
+            .project_local_point_with_max_dist(local, false, max_m as f32)?;
+        Some(f64::from((local - projection.point).length()))
+    }
+
     /// Unit normal of the triangle of `part` nearest to `point` (object frame), if one lies
     /// within `max_distance_m`.
     pub(crate) fn nearest_normal(
@@ -185,6 +196,16 @@ fn inside_outline(scene: &Scene, entry: &Entry, from: DVec3, to: DVec3, margin_m
     })
 }
 
+/// How far a moving point's distance to a still part is measured, as a share of the moving
+/// group's diagonal (at least twice the contact distance): beyond it, a point is that far.
+const SLACK_REACH_FRACTION: f64 = 0.1;
+/// A step skips its ray when it is shorter than the point's slack by this share of the scene's
+/// diagonal.
+const SLACK_MARGIN_FRACTION: f64 = 1e-5;
+
+/// Most steps a point near a surface is followed without measuring its distance.
+const MAX_UNMEASURED_STEPS: u8 = 31;
+
 /// Surfaces a point may be inside at once before the oldest is forgotten.
 const MAX_ENTRIES: usize = 4;
 
@@ -218,6 +239,23 @@ pub(crate) struct Crossings {
     pub(crate) crossed_count: usize,
     /// Still parts the moving group can reach, and how many points crossed each.
     near: Vec<(usize, usize)>,
+    /// For each clear point and near part (by point, then part): how far the point may still
+    /// travel before it could reach that part's surface, metres (its distance there when last
+    /// measured, less the path travelled since). A step shorter than that crosses nothing, so
+    /// no ray is cast for it.
+    slack_m: Vec<f64>,
+    /// The same with every point at rest.
+    rest_slack_m: Vec<f64>,
+    /// For each clear point and near part: steps left to cast without measuring the distance,
+    /// and how many to wait after the next measurement that finds the point within two steps of
+    /// the surface (a point sliding along or through a surface would be measured every step for
+    /// no slack; the wait doubles while that lasts).
+    unmeasured: Vec<(u8, u8)>,
+    /// Distances are measured this far; a point farther away has this much slack.
+    slack_reach_m: f64,
+    /// A step must be this much shorter than the slack to skip its ray (f32 rounding of the
+    /// surfaces and rays).
+    slack_margin_m: f64,
     /// The moving points at rest.
     occupancy: KdTree,
     /// A crossing this close to a moving point at rest is in space the group filled at rest.
@@ -254,12 +292,24 @@ impl Crossings {
             .collect();
         let through_depth_m = params.rest_contact_part_fraction * bounds.diagonal();
         let contact_m = rest_contact_m(params, bounds.diagonal(), scene.diagonal_m);
-        let clear: Vec<usize> = (0..moving_points.len())
-            .filter(|&i| {
-                near.iter()
-                    .all(|&(p, _)| scene.surfaces.distance_m(p, moving_points[i]) > contact_m)
-            })
-            .collect();
+        let slack_reach_m = (SLACK_REACH_FRACTION * bounds.diagonal()).max(2.0 * contact_m);
+        let mut rest_slack_m = Vec::new();
+        let mut clear = Vec::new();
+        for (i, point) in moving_points.iter().enumerate() {
+            let distances = near.iter().map(|&(p, _)| {
+                scene
+                    .surfaces
+                    .distance_within_m(p, *point, slack_reach_m)
+                    .unwrap_or(slack_reach_m)
+            });
+            let start = rest_slack_m.len();
+            rest_slack_m.extend(distances);
+            if rest_slack_m[start..].iter().all(|&d| d > contact_m) {
+                clear.push(i);
+            } else {
+                rest_slack_m.truncate(start);
+            }
+        }
         let area_m2: f64 = moving.iter().map(|&p| scene.areas_m2[p]).sum();
         let spacing_m = (area_m2 / moving_points.len().max(1) as f64).sqrt();
         Self {
@@ -274,6 +324,11 @@ impl Crossings {
             clear,
             crossed_count: 0,
             near,
+            slack_m: rest_slack_m.clone(),
+            unmeasured: vec![(0, 0); rest_slack_m.len()],
+            rest_slack_m,
+            slack_reach_m,
+            slack_margin_m: SLACK_MARGIN_FRACTION * scene.diagonal_m,
             occupancy: KdTree::new(moving_points.to_vec()),
             occupancy_radius_m: spacing_m,
         }
@@ -290,14 +345,41 @@ impl Crossings {
     /// has gone through nothing. A slide's depth is not bounded by the distance to the nearest
     /// surface (a drawer pushed sideways into the edge of a thin rail travels inside the rail,
     /// never far from its faces); a turning point's is. A point that comes back through a plane
-    /// it entered is out again.
+    /// it entered is out again. A step's ray is cast only where the step is at least the point's
+    /// slack to that part: a shorter one cannot reach its surface.
     pub(crate) fn advance(&mut self, scene: &Scene, moved: &[DVec3]) {
         for (k, &i) in self.clear.iter().enumerate() {
             let to = moved[i];
             if !self.crossed[k] {
                 let from = self.previous[k];
+                let travel_m = (to - from).length();
                 let entries = &mut self.entries[k];
-                for &(part, _) in &self.near {
+                let row = k * self.near.len()..(k + 1) * self.near.len();
+                let slacks = self.slack_m[row.clone()]
+                    .iter_mut()
+                    .zip(&mut self.unmeasured[row]);
+                for (&(part, _), (slack_m, (left, wait))) in self.near.iter().zip(slacks) {
+                    if *slack_m - travel_m > self.slack_margin_m {
+                        *slack_m -= travel_m;
+                        continue;
+                    }
+                    if *left > 0 {
+                        *left -= 1;
+                        *slack_m = 0.0;
+                    } else {
+                        *slack_m = scene
+                            .surfaces
+                            .distance_within_m(part, to, self.slack_reach_m)
+                            .unwrap_or(self.slack_reach_m);
+                        *wait = if *slack_m > 2.0 * travel_m {
+                            0
+                        } else {
+                            wait.saturating_mul(2)
+                                .saturating_add(1)
+                                .min(MAX_UNMEASURED_STEPS)
+                        };
+                        *left = *wait;
+                    }
                     let Some(mut entry) = scene.surfaces.crossing(part, from, to) else {
                         continue;
                     };
@@ -349,6 +431,8 @@ impl Crossings {
             self.previous[k] = rest[i];
             self.entries[k].clear();
         }
+        self.slack_m.copy_from_slice(&self.rest_slack_m);
+        self.unmeasured.fill((0, 0));
     }
 
     /// Fraction of the clear points that have crossed (0 without clear points).
