@@ -1,6 +1,6 @@
 //! Interpenetration of convex colliders, measured with parry's contact queries (GJK/EPA).
 
-use parry3d::bounding_volume::BoundingVolume;
+use parry3d::bounding_volume::{Aabb, BoundingVolume};
 use parry3d::math::{Pose, Vector};
 use parry3d::shape::ConvexPolyhedron;
 use uniphys_geometry::{DVec3, TriMesh};
@@ -12,6 +12,8 @@ use crate::motion::JointMotion;
 pub(crate) struct Hull {
     pub(crate) part: usize,
     pub(crate) shape: ConvexPolyhedron,
+    /// Bounds at rest, in the shifted frame.
+    rest_aabb: Aabb,
     /// Bounding sphere in the object frame: centre and radius, metres.
     centre_m: DVec3,
     radius_m: f64,
@@ -42,6 +44,7 @@ impl Colliders {
                         .fold(0.0, f64::max);
                     hulls.push(Hull {
                         part,
+                        rest_aabb: shape.aabb(&Pose::IDENTITY),
                         shape,
                         centre_m,
                         radius_m,
@@ -81,28 +84,41 @@ impl Colliders {
         )
     }
 
-    /// The pose of the moving hulls at coordinate `q` in the shifted frame.
-    pub(crate) fn pose(&self, motion: &JointMotion, q: f64) -> Pose {
+    /// The hulls `moving` at coordinate `q` of `motion`, in the shifted frame.
+    pub(crate) fn posed(&self, motion: &JointMotion, q: f64, moving: &[usize]) -> Posed {
         // x' = R x + t in the object frame; with x = y + o: y' = R y + (R o + t - o).
         let rotation = motion.rotation(q);
         let translation = rotation * self.origin + motion.translation_m(q) - self.origin;
         let r = rotation.as_quat();
-        Pose::from_parts(to_f32(translation), r.normalize())
+        let pose = Pose::from_parts(to_f32(translation), r.normalize());
+        let mut aabbs = vec![None; self.hulls.len()];
+        for &h in moving {
+            aabbs[h] = Some(self.hulls[h].shape.aabb(&pose));
+        }
+        Posed { pose, aabbs }
     }
 
-    /// Penetration depth (metres, 0 when separate or touching) of moving hull `a` at `pose_a`
+    /// Penetration depth (metres, 0 when separate or touching) of moving hull `a` at `posed`
     /// into static hull `b` at rest.
-    pub(crate) fn depth_m(&self, a: usize, pose_a: &Pose, b: usize) -> f64 {
-        let (ha, hb) = (&self.hulls[a].shape, &self.hulls[b].shape);
-        let identity = Pose::IDENTITY;
-        if !ha.aabb(pose_a).intersects(&hb.aabb(&identity)) {
+    pub(crate) fn depth_m(&self, a: usize, posed: &Posed, b: usize) -> f64 {
+        let (ha, hb) = (&self.hulls[a].shape, &self.hulls[b]);
+        let aabb_a = posed.aabbs[a].unwrap_or_else(|| ha.aabb(&posed.pose));
+        if !aabb_a.intersects(&hb.rest_aabb) {
             return 0.0;
         }
-        match parry3d::query::contact(pose_a, ha, &identity, hb, 0.0) {
+        match parry3d::query::contact(&posed.pose, ha, &Pose::IDENTITY, &hb.shape, 0.0) {
             Ok(Some(contact)) if contact.dist < 0.0 => f64::from(-contact.dist),
             _ => 0.0,
         }
     }
+}
+
+/// Moving hulls at one coordinate of their joint: the pose, and the bounds there of each hull
+/// it was made for, found once for all the pairs a hull is in.
+pub(crate) struct Posed {
+    pose: Pose,
+    /// Bounds at the pose, by hull index (`None` for hulls that were not posed).
+    aabbs: Vec<Option<Aabb>>,
 }
 
 /// A point in parry's `f32` vectors.
@@ -125,12 +141,15 @@ mod tests {
             axis_in_object: DVec3::X,
             pivot_in_object_m: DVec3::ZERO,
         };
-        let d = colliders.depth_m(0, &colliders.pose(&still, 0.0), 1);
+        let d = colliders.depth_m(0, &colliders.posed(&still, 0.0, &[0]), 1);
         assert!((d - 0.1).abs() < 1e-5, "{d}");
         // Moved 0.3 m further along +x the overlap is 0.4 m; moved back 0.2 m they are apart.
-        let d = colliders.depth_m(0, &colliders.pose(&still, 0.3), 1);
+        let d = colliders.depth_m(0, &colliders.posed(&still, 0.3, &[0]), 1);
         assert!((d - 0.4).abs() < 1e-5, "{d}");
-        assert_eq!(colliders.depth_m(0, &colliders.pose(&still, -0.2), 1), 0.0);
+        assert_eq!(
+            colliders.depth_m(0, &colliders.posed(&still, -0.2, &[0]), 1),
+            0.0
+        );
     }
 
     #[test]
@@ -145,8 +164,15 @@ mod tests {
             axis_in_object: DVec3::Z,
             pivot_in_object_m: DVec3::ZERO,
         };
-        assert_eq!(colliders.depth_m(0, &colliders.pose(&hinge, 0.0), 1), 0.0);
-        let d = colliders.depth_m(0, &colliders.pose(&hinge, std::f64::consts::FRAC_PI_2), 1);
+        assert_eq!(
+            colliders.depth_m(0, &colliders.posed(&hinge, 0.0, &[0]), 1),
+            0.0
+        );
+        let d = colliders.depth_m(
+            0,
+            &colliders.posed(&hinge, std::f64::consts::FRAC_PI_2, &[0]),
+            1,
+        );
         // Every separating translation is 0.6 m long (along x, y or z).
         assert!((d - 0.6).abs() < 1e-4, "{d}");
     }

@@ -370,7 +370,7 @@ pub fn sweep(
     let colliders = &scene.colliders;
     let moving_hulls = colliders.of_parts(moving);
     let still_hulls = colliders.of_parts(&still);
-    let rest_pose = colliders.pose(&motion, 0.0);
+    let rest_pose = colliders.posed(&motion, 0.0, &moving_hulls);
     // Only pairs that can meet anywhere in the range (and at rest) are queried.
     let pairs: Vec<(usize, usize)> = moving_hulls
         .iter()
@@ -604,7 +604,7 @@ pub fn sweep(
             previous_side = q >= 0.0;
             crossings.restart(&moving_points);
         }
-        let pose = colliders.pose(&motion, q);
+        let pose = colliders.posed(&motion, q, &moving_hulls);
         let mut deepest = (0.0f64, None);
         for (&(a, b), rest) in pairs.iter().zip(&baseline) {
             let growth = colliders.depth_m(a, &pose, b) - rest;
