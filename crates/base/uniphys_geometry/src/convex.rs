@@ -50,10 +50,10 @@ impl Hull {
 /// The mesh is split into connected components ([`connected_components`]). A component whose
 /// convex hull exceeds its solid volume ([`solid_mass_properties`]) by at most
 /// `concavity_tolerance` is replaced by that hull; any other is decomposed by parry3d's V-HACD
-/// at the mesh's voxel size (hull of the mesh clipped to each part, or of the part's voxels where
-/// that fails; the component's single hull if V-HACD fails altogether). A flat component (a zero-thickness
-/// panel) gets a slab 1 % of its size thick; hulls below 1e-6
-/// of their component's hull volume are dropped. While there are more than `max_hulls` hulls,
+/// at the mesh's voxel size (hull of the mesh clipped to each part, or of the part's voxels
+/// where that fails; the component's single hull if V-HACD fails altogether). A flat component
+/// (a zero-thickness panel) gets a slab 1 % of its size thick; hulls below 1e-6 of their
+/// component's hull volume are dropped. While there are more than `max_hulls` hulls,
 /// the smallest is merged into the hull whose bounds are nearest its centre (the hull of both
 /// point sets), so no region loses its collision shape. Components are worked on all cores, and
 /// V-HACD runs once for a shape that repeats ([`convex_decompositions`]). Deterministic.
@@ -70,7 +70,7 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
 /// an earlier one (the same triangles, the same vertices in its own box frame to 1e-4 of its
 /// size: another key of a keyboard, another knob of an oven) gets that component's V-HACD hulls
 /// moved onto it instead of a V-HACD run of its own. The first of each shape is decomposed
-/// exactly as alone. One result per mesh, in order. `progress` is told how many V-HACD runs
+/// exactly as it would be alone in its mesh. One result per mesh, in order. `progress` is told how many V-HACD runs
 /// have finished of how many, as they finish (from any thread).
 ///
 /// Errors: invalid parameters (for all); per mesh, [`GeometryError::Degenerate`] if no hull
