@@ -70,23 +70,16 @@ impl Surfaces {
         part: usize,
         points: impl IntoIterator<Item = DVec3>,
     ) -> f64 {
-        let Some(s) = self.parts.get(part).and_then(Option::as_ref) else {
-            return f64::INFINITY;
-        };
-        let mut nearest_m = f32::MAX;
-        for point in points {
-            let local = to_f32(point - self.origin);
-            if let Some(projection) = s
-                .mesh
-                .project_local_point_with_max_dist(local, false, nearest_m)
-            {
-                nearest_m = nearest_m.min((local - projection.point).length());
-            }
-        }
-        if nearest_m == f32::MAX {
+        // parry's own bound for an unbounded query, so the first point's is one.
+        let unbounded_m = f64::from(f32::MAX);
+        let nearest_m = points.into_iter().fold(unbounded_m, |nearest_m, point| {
+            self.distance_within_m(part, point, nearest_m)
+                .map_or(nearest_m, |d| d.min(nearest_m))
+        });
+        if nearest_m == unbounded_m {
             f64::INFINITY
         } else {
-            f64::from(nearest_m)
+            nearest_m
         }
     }
 
