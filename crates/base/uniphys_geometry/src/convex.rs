@@ -2,7 +2,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec3;
 
-use crate::vhacd::{ComponentFrame, first_copies};
+use crate::vhacd::{ComponentFrame, first_copies, tight_extent};
 use crate::{
     Aabb, GeometryError, GeometryResult, MAX_VOXEL_RESOLUTION, TriMesh, connected_components,
     convex_hull, parallel_map, solid_mass_properties,
@@ -102,7 +102,7 @@ pub fn convex_decompositions(
     });
     // V-HACD on the first component of each concave shape, on all cores; its hulls moved onto
     // the later copies.
-    let mesh_extents: Vec<f64> = meshes.iter().map(|m| m.bounds().max_extent()).collect();
+    let mesh_extents: Vec<f64> = parallel_map(meshes, |m| tight_extent(m));
     let (frames, resolutions): (Vec<&ComponentFrame>, Vec<u32>) = components
         .iter()
         .zip(&judged)
@@ -181,7 +181,7 @@ pub fn convex_decompositions(
 const MIN_COMPONENT_RESOLUTION: u32 = 16;
 
 /// V-HACD's resolution for a component of largest extent `component_m` in a mesh of largest
-/// extent `mesh_m`: `resolution` voxels across the whole mesh, so a component gets the mesh's
+/// extent `mesh_m` (both along their own tight boxes, so the same in any pose): `resolution` voxels across the whole mesh, so a component gets the mesh's
 /// voxel size (a handle on a door is cut as finely as the door, not 64 voxels across the handle
 /// alone), and at least [`MIN_COMPONENT_RESOLUTION`] across itself.
 fn component_resolution(resolution: u32, component_m: f64, mesh_m: f64) -> u32 {
@@ -379,8 +379,8 @@ mod tests {
             .flat_map(|p| {
                 let voxel_resolution = component_resolution(
                     params.voxel_resolution,
-                    p.bounds().max_extent(),
-                    whole_mesh.bounds().max_extent(),
+                    tight_extent(p),
+                    tight_extent(&whole_mesh),
                 );
                 assert!(voxel_resolution < params.voxel_resolution);
                 let at_whole_voxel = ConvexParams {
@@ -483,6 +483,17 @@ mod tests {
         assert_eq!(hulls.len(), large_alone.len() + small_at_16.len());
         for hull in large_alone.iter().chain(&small_at_16) {
             assert!(hulls.contains(hull));
+        }
+        // Turned, the pair is cut the same way: the same hull volumes (a size taken on the
+        // axis-aligned bounds would grow by the turn and cut both more coarsely).
+        let turned = both.transformed(&DMat4::from_rotation_z(std::f64::consts::FRAC_PI_4));
+        let mut upright_volumes = volumes(&hulls);
+        let mut turned_volumes = volumes(&convex_decomposition(&turned, &params).unwrap());
+        upright_volumes.sort_by(f64::total_cmp);
+        turned_volumes.sort_by(f64::total_cmp);
+        assert_eq!(upright_volumes.len(), turned_volumes.len());
+        for (u, t) in upright_volumes.iter().zip(&turned_volumes) {
+            assert!((u - t).abs() <= 1e-6 * u.abs().max(1e-9), "{u} {t}");
         }
     }
 

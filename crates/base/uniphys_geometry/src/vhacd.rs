@@ -10,7 +10,7 @@ use parry3d::transformation::vhacd::{VHACD, VHACDParameters};
 use parry3d::transformation::voxelization::VoxelSet;
 
 use crate::convex::{ConvexParams, Hull};
-use crate::{TriMesh, box_axes, convex_hull, sample_points};
+use crate::{TriMesh, box_axes, convex_hull, projection_range, sample_points};
 
 /// Two components are copies when their triangles are the same and every vertex, in each one's
 /// own frame, is within this fraction of the component's largest extent of the other's. The
@@ -37,7 +37,7 @@ impl ComponentFrame {
     pub(crate) fn of(component: &TriMesh) -> Self {
         let centroid =
             component.positions.iter().sum::<DVec3>() / component.positions.len().max(1) as f64;
-        let [a, b, c] = box_axes(&sample_points(component, 2000, 0xb0c5));
+        let [a, b, c] = tight_box_axes(component);
         let box_from_object = DMat3::from_cols(a, b, c).transpose();
         let points: Vec<Vec3> = component
             .positions
@@ -136,6 +136,23 @@ impl ComponentFrame {
             })
             .collect()
     }
+}
+
+/// The edges of `mesh`'s tight box, found on surface samples (the same for any pose of it).
+fn tight_box_axes(mesh: &TriMesh) -> [DVec3; 3] {
+    box_axes(&sample_points(mesh, 2000, 0xb0c5))
+}
+
+/// Largest extent of `mesh` along the edges of its tight box, metres: its size whatever its
+/// pose, measured as a component's [`ComponentFrame`] measures the component.
+pub(crate) fn tight_extent(mesh: &TriMesh) -> f64 {
+    tight_box_axes(mesh)
+        .iter()
+        .map(|&axis| {
+            let (lo, hi) = projection_range(&mesh.positions, axis);
+            hi - lo
+        })
+        .fold(0.0, f64::max)
 }
 
 /// For each frame, the index of the first frame it is a copy of (itself when none before it
