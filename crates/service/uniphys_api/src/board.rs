@@ -1,6 +1,7 @@
 //! The dashboard's board: the latest queue statistics, recomputed at most once per refresh
 //! interval however many viewers poll (one query in flight; meanwhile the others get the previous
-//! statistics), a history of samples taken every history interval by a background task, each tenant's job counts cached for the same refresh interval, and batch
+//! statistics, or wait for the first), a history of samples taken every history interval by a
+//! background task, each tenant's job counts cached for the same refresh interval, and batch
 //! statistics cached for `batch_stats_refresh`.
 
 use std::collections::VecDeque;
