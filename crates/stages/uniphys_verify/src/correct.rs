@@ -8,15 +8,15 @@
 //! the ground, the parent's box axes; for a panel its parent holds on both faces, its normal
 //! through the held pin); the other kind of motion (slide for turn, turn for slide).
 //!
-//! Within a tier the passing variant that fits the parts best wins (a range cut counts against
-//! it by the share cut away), then for a slide the one that stays on its parent longest (a
-//! drawer pulled out runs on its frame, one dropped out of it leaves it at once), then the one
-//! with the most margin; a variant listed before it that moves the same way about a line a few
+//! Within a tier the passing variant that fits the parts best wins (`fit::misfit`: a hinge along
+//! its parent and across from the handle, a spin about the part's own round axis, a slide that
+//! stays on its parent; a range cut counts against it by the share cut away), then the one with
+//! the most margin; a variant listed before it that moves the same way about a line a few
 //! degrees off (a part's box axis before a contact axis near it) wins instead when it fits
-//! nearly as well. Across tiers the smaller change wins unless a later tier's, of the same kind
-//! of motion (a turn or a slide), fits the parts clearly better (`fit::misfit`: a hinge along
-//! its parent and across from the handle, a spin about the part's own round axis); a
-//! correction that fits well ends the search. A joint that nearly passed keeps its axis: its
+//! nearly as well. Across tiers the smaller change wins unless a later tier's fits the parts
+//! clearly better and is of the same kind of motion (a turn or a slide), or is a turn replacing
+//! a slide that left its parent (a door or a laptop's screen slid off its frame); a correction
+//! that fits well ends the search. A joint that nearly passed keeps its axis: its
 //! range changes, or, when that fits the parts poorly (a door reversed about its handle's
 //! edge), its pivot; a failure late in the range is cut before the range is reversed.
 
@@ -149,7 +149,8 @@ pub(crate) fn correct_failed(
         let change = match &chosen {
             None => format!("{change} (misfit {fit:.2})"),
             Some(earlier)
-                if turns(joint.kind) == turns(earlier.joint.kind)
+                if (turns(joint.kind) == turns(earlier.joint.kind)
+                    || earlier.joint.kind == JointKind::Prismatic)
                     && fit + MISFIT_MARGIN < earlier.misfit =>
             {
                 format!(
@@ -192,34 +193,19 @@ fn same_motion_tilted(a: &Joint, b: &Joint) -> bool {
 const SAME_MOTION_MISFIT: f64 = 0.05;
 
 /// How much a passing variant is preferred, smaller first: its misfit in steps of
-/// [`MISFIT_STEP`], for a slide the share of its sweep out of contact with its parent in steps
-/// of [`LOST_CONTACT_STEP`], then its severity.
-type Preference = (i64, i64, f64);
+/// [`MISFIT_STEP`] (for a slide, the share of its sweep out of contact with its parent: a drawer
+/// pulled out runs on its frame, one dropped out of it leaves it at once), then its severity.
+type Preference = (i64, f64);
 
-/// The [`Preference`] of a passing variant with `misfit` whose sweep measured `m`. Slides all
-/// fit alike (`fit::misfit` is 0 for them); one that runs along its parent (a drawer on its
-/// runners) is held over its travel, one that leaves it at once (a drawer dropped out of the
-/// frame it hangs in) by nothing.
+/// The [`Preference`] of a passing variant with `misfit` whose sweep measured `m`.
 fn preference(misfit: f64, m: &SweepMetrics, params: &SweepParams) -> Preference {
-    let lost = if m.kind == JointKind::Prismatic {
-        m.lost_contact_steps as f64 / params.steps.max(1) as f64
-    } else {
-        0.0
-    };
-    (
-        (misfit / MISFIT_STEP).round() as i64,
-        (lost / LOST_CONTACT_STEP).round() as i64,
-        m.severity(params),
-    )
+    ((misfit / MISFIT_STEP).round() as i64, m.severity(params))
 }
 
 /// Orders two preferences.
 fn compare(a: Preference, b: Preference) -> std::cmp::Ordering {
-    a.0.cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.total_cmp(&b.2))
+    a.0.cmp(&b.0).then(a.1.total_cmp(&b.1))
 }
-
-/// Steps in which slides' shares of their sweep out of contact are compared.
-const LOST_CONTACT_STEP: f64 = 0.05;
 
 /// Steps in which variants' misfits are compared: within one, the margin decides.
 const MISFIT_STEP: f64 = 0.01;
@@ -547,12 +533,6 @@ fn cut_penalty(original: &Joint, variant: &Joint) -> f64 {
 /// Misfit added per share of the range a correction cuts away.
 const CUT_WEIGHT: f64 = 0.5;
 
-/// Whether a joint of this kind turns (misfits of turns and slides are not comparable: a slide
-/// has no hinge or roundness to fit).
-fn turns(kind: JointKind) -> bool {
-    matches!(kind, JointKind::Revolute | JointKind::Continuous)
-}
-
 /// Angle between two lines (sign ignored), radians.
 fn line_angle(a: DVec3, b: DVec3) -> f64 {
     a.normalize()
@@ -560,4 +540,11 @@ fn line_angle(a: DVec3, b: DVec3) -> f64 {
         .abs()
         .clamp(0.0, 1.0)
         .acos()
+}
+
+/// Whether a joint of this kind turns. A turn's misfit and a slide's measure different things (a
+/// hinge's placement, a slide's hold on its parent); a turn replaces a slide that lost its
+/// parent, but a slide's good hold says nothing against a hinge's placement.
+fn turns(kind: JointKind) -> bool {
+    matches!(kind, JointKind::Revolute | JointKind::Continuous)
 }

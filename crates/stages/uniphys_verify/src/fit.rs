@@ -38,7 +38,9 @@ const SPIN_WEIGHT: f64 = 5.0;
 /// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5; a revolute joint
 ///   over half a turn ([`may_spin`]) is judged both ways and keeps the better fit (a knob with a
 ///   stop spins, a bucket's handle swings);
-/// - a slide: 0 (slides are told apart by their sweep: slot, press, guidance).
+/// - a slide: the share of its sweep it spends out of contact with its parent (a drawer runs on
+///   its frame to the end of its travel; a door, a lid or a screen slid off its frame is held by
+///   nothing).
 pub(crate) fn misfit(
     scene: &Scene,
     joint: &Joint,
@@ -50,8 +52,12 @@ pub(crate) fn misfit(
     if spins(joint) {
         return SPIN_WEIGHT * spin_residual(moving, axis, pivot);
     }
-    if joint.kind != JointKind::Revolute {
-        return 0.0;
+    match joint.kind {
+        JointKind::Revolute => {}
+        JointKind::Prismatic => {
+            return metrics.lost_contact_steps as f64 / metrics.steps.max(1) as f64;
+        }
+        JointKind::Continuous | JointKind::Fixed => return 0.0,
     }
     let along = (metrics.hinge_mean_to_parent_m / width_across_m(moving, axis)).min(1.0);
     let handle = match metrics.handle_reach_fraction {

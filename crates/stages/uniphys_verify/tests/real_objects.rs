@@ -398,6 +398,26 @@ fn a_laptop_screen_turned_about_its_side_edge_is_hinged_back_along_the_base() {
 }
 
 #[test]
+fn a_laptop_screen_made_a_slide_is_hinged_again_instead_of_slid_off_its_base() {
+    // Slid along its hinge line, the screen runs into the base's hinge blocks. Another slide
+    // passes: lifted off the base, held by nothing for most of its travel. A hinge on the same
+    // line keeps it on the base and fits, so the turn replaces the slide that left its parent.
+    let o = object("gensim2-11156");
+    let i = o.movable()[0];
+    let truth = o.joints[i].clone();
+    let mut slide = truth.clone();
+    slide.kind = uniphys_types::JointKind::Prismatic;
+    slide.limits = Some(uniphys_types::JointLimits {
+        lower: 0.0,
+        upper: 0.5 * part_diagonal(&o, truth.child.0),
+    });
+    let verdict = o.caught(i, slide);
+    let (fixed, change) = verdict.correction.clone().expect("corrected");
+    assert_eq!(fixed.kind, uniphys_types::JointKind::Revolute, "{change}");
+    assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+}
+
+#[test]
 fn stove_knobs_turned_about_a_line_across_them_spin_about_their_own_axis_again() {
     let o = object("kitchen-101921");
     let knobs: Vec<usize> = o
