@@ -15,8 +15,8 @@
 //! degrees off (a part's box axis before a contact axis near it) wins instead when it fits
 //! nearly as well. Across tiers the smaller change wins unless a later tier's fits the parts
 //! clearly better and is of the same kind of motion (a turn or a slide), or is a turn replacing
-//! a slide that left its parent (a door or a laptop's screen slid off its frame); a correction
-//! that fits well ends the search. A joint that nearly passed keeps its axis: its
+//! a slide that left its parent or runs askew (a laptop's screen slid off its base, a door slid
+//! diagonally across its cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps its axis: its
 //! range changes, or, when that fits the parts poorly (a door reversed about its handle's
 //! edge), its pivot; a failure late in the range is cut before the range is reversed.
 
@@ -543,8 +543,8 @@ fn line_angle(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Whether a joint of this kind turns. A turn's misfit and a slide's measure different things (a
-/// hinge's placement, a slide's hold on its parent); a turn replaces a slide that lost its
-/// parent, but a slide's good hold says nothing against a hinge's placement.
+/// hinge's placement, a slide's hold on its parent and its direction); a turn replaces a slide
+/// that fits badly, but a slide that fits well says nothing against a hinge's placement.
 fn turns(kind: JointKind) -> bool {
     matches!(kind, JointKind::Revolute | JointKind::Continuous)
 }

@@ -10,7 +10,7 @@
 
 use std::f64::consts::PI;
 
-use uniphys_geometry::{Aabb, DQuat, DVec3, KdTree};
+use uniphys_geometry::{Aabb, DQuat, DVec3, KdTree, box_axes};
 use uniphys_types::{Joint, JointKind};
 
 use crate::handle::handled_panel_spun;
@@ -40,7 +40,8 @@ const SPIN_WEIGHT: f64 = 5.0;
 ///   stop spins, a bucket's handle swings);
 /// - a slide: the share of its sweep it spends out of contact with its parent (a drawer runs on
 ///   its frame to the end of its travel; a door, a lid or a screen slid off its frame is held by
-///   nothing).
+///   nothing), plus how far it runs askew of every direction it could be built along
+///   ([`slide_skew`]: a door slid diagonally across the face it closes).
 pub(crate) fn misfit(
     scene: &Scene,
     joint: &Joint,
@@ -55,7 +56,8 @@ pub(crate) fn misfit(
     match joint.kind {
         JointKind::Revolute => {}
         JointKind::Prismatic => {
-            return metrics.lost_contact_steps as f64 / metrics.steps.max(1) as f64;
+            let lost = metrics.lost_contact_steps as f64 / metrics.steps.max(1) as f64;
+            return lost + slide_skew(scene, joint, moving, axis);
         }
         JointKind::Continuous | JointKind::Fixed => return 0.0,
     }
@@ -80,6 +82,37 @@ pub(crate) fn misfit(
     } else {
         hinge
     }
+}
+
+/// A slide within this angle of a direction it could be built along runs along it, radians (15
+/// degrees: a part's box leans a few degrees with its handle or grip).
+const SLIDE_SQUARE_RAD: f64 = 0.26;
+/// A slide this much further askew fits as badly as one that leaves its parent at once, radians
+/// (30 degrees: at 45 degrees a slide is as far as it can be from two square directions).
+const SLIDE_SKEW_SPAN_RAD: f64 = 0.52;
+
+/// How far a slide along unit `axis` runs askew of the directions real slides are built along:
+/// the edges of the moving part's own box (a drawer, a button pushed along its own axis, a
+/// sliding door), of its parent's (a runner, a slot), and the vertical of an object on the
+/// ground (a lid lifted). 0 within [`SLIDE_SQUARE_RAD`] of one, rising to 1 over
+/// [`SLIDE_SKEW_SPAN_RAD`] more.
+fn slide_skew(scene: &Scene, joint: &Joint, moving: &[DVec3], axis: DVec3) -> f64 {
+    if axis == DVec3::ZERO || moving.is_empty() {
+        return 0.0;
+    }
+    let parent = scene.points_of(&[joint.parent.0 as usize]);
+    let mut square: Vec<DVec3> = box_axes(moving).to_vec();
+    if !parent.is_empty() {
+        square.extend(box_axes(&parent));
+    }
+    if scene.ground_z_m.is_some() {
+        square.push(DVec3::Z);
+    }
+    let skew = square
+        .iter()
+        .map(|d| d.dot(axis).abs().clamp(0.0, 1.0).acos())
+        .fold(f64::INFINITY, f64::min);
+    ((skew - SLIDE_SQUARE_RAD) / SLIDE_SKEW_SPAN_RAD).clamp(0.0, 1.0)
 }
 
 /// The width of a part (sampled at `points`) across a unit `axis`: twice the largest distance of
