@@ -29,6 +29,17 @@ impl JointKind {
         matches!(self, Self::Revolute | Self::Prismatic)
     }
 
+    /// The kind's name as serialised (`revolute`, `continuous`, `prismatic`, `fixed`).
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Revolute => "revolute",
+            Self::Continuous => "continuous",
+            Self::Prismatic => "prismatic",
+            Self::Fixed => "fixed",
+        }
+    }
+
     /// Dataset movement type letter: `B` prismatic, `C` revolute or continuous, `D` fixed.
     #[must_use]
     pub fn movement_type(self) -> char {
@@ -76,4 +87,22 @@ pub struct Joint {
     pub coupled_parts: Vec<PartId>,
     /// Where the joint hypothesis came from.
     pub provenance: Provenance,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kind_is_named_as_it_serialises() {
+        for kind in [
+            JointKind::Revolute,
+            JointKind::Continuous,
+            JointKind::Prismatic,
+            JointKind::Fixed,
+        ] {
+            let serialised = serde_json::to_value(kind).expect("a kind serialises");
+            assert_eq!(serialised, kind.as_str());
+        }
+    }
 }

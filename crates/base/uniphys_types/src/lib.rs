@@ -15,6 +15,7 @@ mod material;
 mod properties;
 mod provenance;
 mod report;
+mod summary;
 pub mod units;
 pub mod words;
 
@@ -31,3 +32,4 @@ pub use material::{Material, MaterialCategory, MaterialPrior, PriorRange};
 pub use properties::{Descriptions, ObjectProperties, PartProperties};
 pub use provenance::{Estimate, Provenance};
 pub use report::{CheckOutcome, CheckResult, ReportSection, VerificationReport};
+pub use summary::{ConvertSummary, DatasetFacts};

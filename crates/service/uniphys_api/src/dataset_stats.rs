@@ -2,14 +2,15 @@
 //! counts by category, part material and joint type, and distributions of object mass, object
 //! size (largest dimension) and parts per asset.
 //!
-//! Each summary is the `convert` stage's, whose `dataset` member holds
-//! `{"category", "mass_kg", "size_m": [x, y, z], "materials": {name: parts}, "joint_types": {kind: n}}`;
-//! a summary without it (an older stage version) counts as converted and nothing else.
+//! Each summary is the `convert` stage's ([`ConvertSummary`], the type its worker writes); one
+//! without `dataset` (an older stage version) counts as converted and by its parts, and one that
+//! does not read as a summary at all counts as converted only.
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use serde_json::Value;
+use uniphys_types::ConvertSummary;
 use utoipa::ToSchema;
 
 /// Counts and distributions over a batch's converted assets.
@@ -69,31 +70,24 @@ pub fn dataset_stats(summaries: &[Value]) -> DatasetStats {
     let mut parts = Vec::new();
     for summary in summaries {
         stats.converted += 1;
-        if summary.get("passed").and_then(Value::as_bool) == Some(true) {
-            stats.passed += 1;
-        }
-        if let Some(n) = summary.get("parts").and_then(Value::as_u64) {
-            #[expect(clippy::cast_precision_loss, reason = "part counts are small")]
-            parts.push(n as f64);
-        }
-        let Some(dataset) = summary.get("dataset") else {
+        let Ok(summary) = ConvertSummary::deserialize(summary) else {
             continue;
         };
-        if let Some(category) = dataset.get("category").and_then(Value::as_str) {
-            *stats.categories.entry(category.to_owned()).or_default() += 1;
+        if summary.passed {
+            stats.passed += 1;
         }
-        add_counts(&mut stats.materials, dataset.get("materials"));
-        add_counts(&mut stats.joint_types, dataset.get("joint_types"));
-        if let Some(mass) = dataset.get("mass_kg").and_then(Value::as_f64) {
-            masses.push(mass);
+        if summary.parts > 0 {
+            #[expect(clippy::cast_precision_loss, reason = "part counts are small")]
+            parts.push(summary.parts as f64);
         }
-        if let Some(size) = dataset
-            .get("size_m")
-            .and_then(Value::as_array)
-            .and_then(|xyz| xyz.iter().filter_map(Value::as_f64).reduce(f64::max))
-        {
-            sizes.push(size);
-        }
+        let Some(dataset) = summary.dataset else {
+            continue;
+        };
+        *stats.categories.entry(dataset.category).or_default() += 1;
+        add_counts(&mut stats.materials, dataset.materials);
+        add_counts(&mut stats.joint_types, dataset.joint_types);
+        masses.push(dataset.mass_kg);
+        sizes.push(dataset.size_m.into_iter().fold(f64::NEG_INFINITY, f64::max));
     }
     stats.mass_kg = distribution(masses, Bins::Log { per_decade: 2 });
     stats.size_m = distribution(sizes, Bins::Log { per_decade: 4 });
@@ -101,11 +95,9 @@ pub fn dataset_stats(summaries: &[Value]) -> DatasetStats {
     stats
 }
 
-fn add_counts(into: &mut BTreeMap<String, u64>, counts: Option<&Value>) {
-    for (name, n) in counts.and_then(Value::as_object).into_iter().flatten() {
-        if let Some(n) = n.as_u64() {
-            *into.entry(name.clone()).or_default() += n;
-        }
+fn add_counts(into: &mut BTreeMap<String, u64>, counts: BTreeMap<String, u64>) {
+    for (name, n) in counts {
+        *into.entry(name).or_default() += n;
     }
 }
 
@@ -204,6 +196,38 @@ mod tests {
         assert_eq!(stats.mass_kg.count, 3);
         assert_eq!(stats.mass_kg.median, Some(5.0));
         assert_eq!(stats.size_m.max, Some(0.8));
+    }
+
+    #[test]
+    fn what_the_worker_writes_is_what_is_counted() {
+        let written = ConvertSummary {
+            passed: true,
+            name: "cabinet".into(),
+            parts: 3,
+            joints: 2,
+            files: 40,
+            stage_secs: BTreeMap::from([("ingest".to_owned(), 0.1)]),
+            dataset: Some(uniphys_types::DatasetFacts {
+                category: "Furniture".into(),
+                mass_kg: 12.0,
+                size_m: [0.5, 0.4, 0.9],
+                materials: BTreeMap::from([("wood".to_owned(), 3)]),
+                joint_types: BTreeMap::from([("revolute".to_owned(), 1), ("fixed".to_owned(), 1)]),
+            }),
+        };
+        let value = serde_json::to_value(&written).expect("a summary serialises");
+        let stats = dataset_stats(&[value, json!({"parts": "three"})]);
+        assert_eq!(
+            stats.converted, 2,
+            "a summary that does not read still counts"
+        );
+        assert_eq!(stats.passed, 1);
+        assert_eq!(stats.categories["Furniture"], 1);
+        assert_eq!(stats.materials["wood"], 3);
+        assert_eq!(stats.joint_types["revolute"], 1);
+        assert_eq!(stats.mass_kg.median, Some(12.0));
+        assert_eq!(stats.size_m.max, Some(0.9));
+        assert_eq!(stats.parts_per_asset.count, 1);
     }
 
     #[test]

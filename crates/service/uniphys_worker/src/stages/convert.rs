@@ -6,8 +6,9 @@
 
 use std::time::Duration;
 
-use serde_json::{Value, json};
+use serde_json::Value;
 use uniphys_pipeline::{PipelineError, Progress, RunOptions, Stage as PipelineStage, run};
+use uniphys_types::{ConvertSummary, DatasetFacts};
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
@@ -79,49 +80,22 @@ impl Stage for ConvertStage {
             let bytes = source.without_local_paths_in(&artifact.path, artifact.bytes);
             out.put(&artifact.path, bytes)?;
         }
-        let timings: serde_json::Map<String, Value> = output
-            .timings
-            .iter()
-            .map(|(stage, elapsed)| (stage.name().to_owned(), json!(elapsed.as_secs_f64())))
-            .collect();
-        Ok(json!({
-            "passed": output.report.passed(),
-            "name": output.record.name,
-            "parts": output.record.parts.len(),
-            "joints": output.record.joints.len(),
-            "files": files,
-            "stage_secs": timings,
-            "dataset": dataset_facts(&output.record),
-        }))
+        let summary = ConvertSummary {
+            passed: output.report.passed(),
+            name: output.record.name.clone(),
+            parts: output.record.parts.len(),
+            joints: output.record.joints.len(),
+            files,
+            stage_secs: output
+                .timings
+                .iter()
+                .map(|(stage, elapsed)| (stage.name().to_owned(), elapsed.as_secs_f64()))
+                .collect(),
+            dataset: Some(DatasetFacts::of(&output.record)),
+        };
+        serde_json::to_value(summary)
+            .map_err(|e| StageError::Permanent(format!("the summary could not be written: {e}")))
     }
-}
-
-/// What a batch's statistics count of this asset (`GET /v1/batches/{batch}/stats`): its category,
-/// mass and size, its parts by material category and its joints by kind.
-fn dataset_facts(record: &uniphys_types::AssetRecord) -> Value {
-    let mut materials = serde_json::Map::new();
-    for part in &record.parts {
-        let name = part.properties.material.value.category.as_str();
-        add_one(&mut materials, name);
-    }
-    let mut joint_types = serde_json::Map::new();
-    for joint in &record.joints {
-        if let Ok(Value::String(kind)) = serde_json::to_value(joint.kind) {
-            add_one(&mut joint_types, &kind);
-        }
-    }
-    json!({
-        "category": record.object.category.value,
-        "mass_kg": record.object.mass_kg.value,
-        "size_m": record.object.dimensions_m.value,
-        "materials": materials,
-        "joint_types": joint_types,
-    })
-}
-
-fn add_one(counts: &mut serde_json::Map<String, Value>, key: &str) {
-    let n = counts.get(key).and_then(Value::as_u64).unwrap_or(0);
-    counts.insert(key.to_owned(), json!(n + 1));
 }
 
 /// A failure the same run may get past later ([`PipelineError::is_transient`]) is retried.
