@@ -4,9 +4,10 @@
 //! exported asset; `failures.csv` with the jobs that did not succeed; `statistics.json`.
 
 use serde_json::Value;
+use uniphys_types::ServiceStage;
 
 /// The stage whose files make an asset's entity folder.
-pub const ENTITY_STAGE: &str = "convert";
+pub const ENTITY_STAGE: &str = ServiceStage::Convert.name();
 
 /// The folder name of an asset's entity: its file's stem (letters, digits, `-`, `_`; other
 /// characters become `_`) and its id, so it is unique in the batch.

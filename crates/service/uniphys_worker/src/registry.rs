@@ -5,6 +5,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use uniphys_queue::{JobSpec, StageSpec};
+use uniphys_types::ServiceStage;
 
 use crate::stage::Stage;
 use crate::stages::{ConvertStage, DecomposeStage, IngestStage, StandInStage};
@@ -80,14 +81,15 @@ const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 /// also reads `ingest`'s output, so it depends on both).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
+    use ServiceStage::{Convert, Decompose, Ingest};
     JobSpec::new(vec![
-        StageSpec::new("ingest").with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-        StageSpec::new("decompose")
-            .after("ingest")
+        StageSpec::new(Ingest.name()).with_max_attempts(PIPELINE_MAX_ATTEMPTS),
+        StageSpec::new(Decompose.name())
+            .after(Ingest.name())
             .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-        StageSpec::new("convert")
-            .after("ingest")
-            .after("decompose")
+        StageSpec::new(Convert.name())
+            .after(Ingest.name())
+            .after(Decompose.name())
             .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
     ])
 }

@@ -9,19 +9,20 @@ use uniphys_decompose::{
     DecomposeOptions, PerceptionOptions, ViewOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_types::ServiceStage;
 use uniphys_vision::ClientConfig;
 
 use crate::args::{StageRunArgs, metres_per_unit};
 
 /// Stages `stage run` knows.
-const RUNNABLE: [&str; 1] = ["decompose"];
+const RUNNABLE: [ServiceStage; 1] = [ServiceStage::Decompose];
 
 pub(crate) fn run_stage(stage: &str, args: &StageRunArgs) -> anyhow::Result<ExitCode> {
-    match stage {
-        "decompose" => decompose(args),
-        other => anyhow::bail!(
-            "stage {other:?} cannot run alone; stages that can: {}",
-            RUNNABLE.join(", ")
+    match ServiceStage::from_name(stage) {
+        Some(ServiceStage::Decompose) => decompose(args),
+        _ => anyhow::bail!(
+            "stage {stage:?} cannot run alone; stages that can: {}",
+            RUNNABLE.map(ServiceStage::name).join(", ")
         ),
     }
 }

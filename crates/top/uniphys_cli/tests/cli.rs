@@ -153,3 +153,22 @@ fn tenant_create_refuses_a_bad_name_and_an_existing_tenant_unless_rotating_its_k
         assert!(stderr.contains("tenant name"), "{bad:?}: {stderr}");
     }
 }
+
+#[test]
+fn a_worker_refuses_a_stage_it_does_not_run_naming_the_ones_it_does() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let output = Command::new(env!("CARGO_BIN_EXE_uniphys"))
+        .args(["worker", "--stages", "ingest=2,convrt", "--data-dir"])
+        .arg(dir.path())
+        .env_remove("UNIPHYS_DATABASE_URL")
+        .env_remove("UNIPHYS_DATABASE_SCHEMA")
+        .env_remove("UNIPHYS_REDIS_URL")
+        .output()
+        .expect("run uniphys");
+    assert_eq!(output.status.code(), Some(2), "{output:?}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("convrt") && stderr.contains("convert, decompose, ingest"),
+        "{stderr}"
+    );
+}

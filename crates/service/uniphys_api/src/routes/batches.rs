@@ -5,6 +5,8 @@
 use axum::Json;
 use axum::extract::State;
 use serde::{Deserialize, Serialize};
+use uniphys_queue::TenantId;
+use uniphys_types::ServiceStage;
 use utoipa::{IntoParams, ToSchema};
 
 use crate::ApiState;
@@ -14,10 +16,9 @@ use crate::extract::{ApiPath, ApiQuery, Tenant};
 use crate::page::{next_cursor, page_limit};
 use crate::routes::overview::JobCounts;
 use crate::state::Shared;
-use uniphys_queue::TenantId;
 
 /// The stage whose summaries hold each asset's dataset facts.
-const CONVERT_STAGE: &str = "convert";
+const CONVERT_STAGE: &str = ServiceStage::Convert.name();
 
 /// A page of batches.
 #[derive(Debug, Deserialize, IntoParams)]

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use serde_json::Value;
 use uniphys_pipeline::{PipelineError, Progress, RunOptions, Stage as PipelineStage, run};
-use uniphys_types::{ConvertSummary, DatasetFacts};
+use uniphys_types::{ConvertSummary, DatasetFacts, ServiceStage};
 
 use crate::outputs::OutputWriter;
 use crate::source::SourceFile;
@@ -52,7 +52,7 @@ impl Progress for Relay<'_> {
 
 impl Stage for ConvertStage {
     fn name(&self) -> &str {
-        "convert"
+        ServiceStage::Convert.name()
     }
 
     fn version(&self) -> u32 {
@@ -66,7 +66,7 @@ impl Stage for ConvertStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        input.upstream("ingest")?;
+        input.upstream(ServiceStage::Ingest.name())?;
         let source = SourceFile::fetch(input)?;
         let mut options = self.options.clone();
         if let Some(face_parts) = stored_face_parts(input)? {
@@ -111,7 +111,11 @@ fn classify(error: &PipelineError, source: &SourceFile) -> StageError {
 /// The face-to-part map written by an upstream `decompose` stage, if the job has one and it
 /// split the input.
 fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError> {
-    let Some((_, manifest)) = input.upstream.iter().find(|(name, _)| name == "decompose") else {
+    let Some((_, manifest)) = input
+        .upstream
+        .iter()
+        .find(|(name, _)| name == ServiceStage::Decompose.name())
+    else {
         return Ok(None);
     };
     let Some(entry) = manifest.artifact(FACE_PARTS_FILE) else {

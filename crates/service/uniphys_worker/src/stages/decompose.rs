@@ -10,6 +10,7 @@ use uniphys_decompose::{
     DecomposeError, DecomposeMode, DecomposeOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_types::ServiceStage;
 use uniphys_vision::ClientConfig;
 
 use crate::input_error::unreadable;
@@ -47,7 +48,7 @@ fn classify(error: DecomposeError) -> StageError {
 
 impl Stage for DecomposeStage {
     fn name(&self) -> &str {
-        "decompose"
+        ServiceStage::Decompose.name()
     }
 
     fn version(&self) -> u32 {
@@ -60,7 +61,7 @@ impl Stage for DecomposeStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        input.upstream("ingest")?;
+        input.upstream(ServiceStage::Ingest.name())?;
         control.progress(0.05, "fetching the source");
         let source = SourceFile::fetch(input)?;
         let loaded =

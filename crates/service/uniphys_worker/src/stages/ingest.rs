@@ -3,6 +3,7 @@
 
 use serde_json::{Value, json};
 use uniphys_mesh_io::{IngestOptions, load_asset};
+use uniphys_types::ServiceStage;
 
 use crate::input_error::unreadable;
 use crate::outputs::OutputWriter;
@@ -21,7 +22,7 @@ pub struct IngestStage {
 
 impl Stage for IngestStage {
     fn name(&self) -> &str {
-        "ingest"
+        ServiceStage::Ingest.name()
     }
 
     fn version(&self) -> u32 {

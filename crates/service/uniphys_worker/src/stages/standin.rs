@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use serde_json::{Value, json};
 use sha2::{Digest, Sha256};
+use uniphys_types::ServiceStage;
 
 use crate::outputs::OutputWriter;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
@@ -46,7 +47,7 @@ pub fn standin_output(stage: &str, input: &StageInput) -> Vec<u8> {
 }
 
 /// The stage whose files are an asset's dataset entity.
-const CONVERT: &str = "convert";
+const CONVERT: &str = ServiceStage::Convert.name();
 
 /// The files of a stand-in dataset entity, each naming the stand-in output it stands for.
 fn standin_entity(output: &[u8]) -> [(&'static str, Vec<u8>); 3] {
