@@ -10,15 +10,15 @@
 //!
 //! Within a tier the passing variant that fits the parts best wins (`fit::misfit`: a hinge along
 //! its parent and across from the handle, a spin about the part's own round axis, a slide that
-//! stays on its parent; a range cut counts against it by the share cut away), then the one with
-//! the most margin; a variant listed before it that moves the same way about a line a few
-//! degrees off (a part's box axis before a contact axis near it) wins instead when it fits
-//! nearly as well. Across tiers the smaller change wins unless a later tier's fits the parts
-//! clearly better and is of the same kind of motion (a turn or a slide), or is a turn replacing
-//! a slide that left its parent or runs askew (a laptop's screen slid off its base, a door slid
-//! diagonally across its cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps its axis: its
-//! range changes, or, when that fits the parts poorly (a door reversed about its handle's
-//! edge), its pivot; a failure late in the range is cut before the range is reversed.
+//! stays on its parent; a range cut counts against it by the share cut away), then the one with the
+//! most margin; a variant listed before it that moves the same way about a line a few degrees off
+//! (a part's box axis before a contact axis near it) wins instead when it fits nearly as well.
+//! Across tiers the smaller change wins unless a later tier's fits the parts clearly better and is
+//! of the same kind of motion (a turn or a slide), or is a turn replacing a slide that left its
+//! parent or runs askew (a laptop's screen slid off its base, a door slid diagonally across its
+//! cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps
+//! its axis: its range changes, or, when that fits the parts poorly (a door reversed about its
+//! handle's edge), its pivot; a failure late in the range is cut before the range is reversed.
 
 use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
