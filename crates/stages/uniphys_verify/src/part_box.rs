@@ -1,14 +1,21 @@
 //! A part's box along its own box axes, from its surface samples.
 
 use std::cell::OnceCell;
+use std::sync::Arc;
 
 use uniphys_geometry::{DVec3, OrientedBox, box_axes, projection_range};
 
+use crate::scene::Scene;
+
 /// Samples with their box, found at most once however many rules of a sweep ask for it (a box
-/// search is a convex hull and a rotating search).
+/// search is a convex hull and a rotating search); with [`Boxed::of_parts`], at most once per
+/// scene for those parts however many sweeps ask (a correction sweeps dozens of variants of one
+/// part).
 pub(crate) struct Boxed<'a> {
     pub(crate) points: &'a [DVec3],
-    part_box: OnceCell<PartBox>,
+    part_box: OnceCell<Arc<PartBox>>,
+    /// The scene and the parts `points` sample, whose box the scene keeps.
+    parts: Option<(&'a Scene, &'a [usize])>,
 }
 
 impl<'a> Boxed<'a> {
@@ -16,12 +23,24 @@ impl<'a> Boxed<'a> {
         Self {
             points,
             part_box: OnceCell::new(),
+            parts: None,
+        }
+    }
+
+    /// The samples `points` of `scene`'s `parts` (as [`Scene::points_of`] gives them).
+    pub(crate) fn of_parts(points: &'a [DVec3], scene: &'a Scene, parts: &'a [usize]) -> Self {
+        Self {
+            parts: Some((scene, parts)),
+            ..Self::new(points)
         }
     }
 
     /// [`PartBox::of`] the samples.
     pub(crate) fn part_box(&self) -> &PartBox {
-        self.part_box.get_or_init(|| PartBox::of(self.points))
+        self.part_box.get_or_init(|| match self.parts {
+            Some((scene, parts)) => scene.part_box(parts, self.points),
+            None => Arc::new(PartBox::of(self.points)),
+        })
     }
 }
 
@@ -113,6 +132,30 @@ mod tests {
         assert!(
             (half[0] - 0.3).abs() < 1e-6 && (half[2] - 0.5).abs() < 1e-6,
             "{half:?}"
+        );
+    }
+
+    #[test]
+    fn a_scene_finds_the_box_of_a_set_of_parts_once_for_every_sweep() {
+        use uniphys_geometry::TriMesh;
+        let slab = TriMesh::cuboid(DVec3::ZERO, DVec3::new(0.5, 0.2, 0.1));
+        let block = TriMesh::cuboid(DVec3::new(0.6, 0.0, 0.0), DVec3::new(0.9, 0.3, 0.3));
+        let scene = Scene::of_convex_parts(&[slab, block], 500);
+        let both = [0, 1];
+        let points = scene.points_of(&both);
+        let first = Boxed::of_parts(&points, &scene, &both);
+        let again = Boxed::of_parts(&points, &scene, &both);
+        assert!(
+            std::ptr::eq(first.part_box(), again.part_box()),
+            "found once"
+        );
+        assert_eq!(*first.part_box(), PartBox::of(&points), "the same box");
+        let slab_points = scene.points_of(&[0]);
+        let slab_box = Boxed::of_parts(&slab_points, &scene, &[0]);
+        assert_eq!(
+            *slab_box.part_box(),
+            PartBox::of(&slab_points),
+            "kept per set of parts"
         );
     }
 }

@@ -1,7 +1,7 @@
 //! The parts of an asset prepared for sweeps: surface samples and convex colliders.
 
 use std::collections::{BTreeSet, HashMap};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use uniphys_geometry::{Aabb, DVec3, TriMesh, box_axes, sample_points};
 use uniphys_types::{Joint, PartId};
@@ -10,6 +10,7 @@ use crate::crossing::Surfaces;
 use crate::fit::{round_axis, spin_residual};
 use crate::ground::{GROUND_TOUCH_FRACTION, stands_on_ground};
 use crate::held::mean;
+use crate::part_box::PartBox;
 use crate::penetration::Colliders;
 use crate::{VerifyError, VerifyResult};
 
@@ -36,6 +37,8 @@ pub struct Scene {
     /// found on first use: the sweeps of a joint's variants and of a grounder's hypotheses
     /// would otherwise search it again each time.
     round_lines: Mutex<HashMap<Vec<usize>, Option<RoundLine>>>,
+    /// Boxes of part sets already found ([`Self::part_box`]).
+    part_boxes: Mutex<HashMap<Vec<usize>, Arc<PartBox>>>,
 }
 
 /// A group of parts whose roundness residual about each of its box axes through its centroid is
@@ -93,6 +96,7 @@ impl Scene {
             ground_z_m,
             standing,
             round_lines: Mutex::new(HashMap::new()),
+            part_boxes: Mutex::new(HashMap::new()),
         })
     }
 
@@ -148,6 +152,24 @@ impl Scene {
             lines.insert(parts.to_vec(), line);
         }
         line
+    }
+
+    /// The box of the parts `parts` (their samples `points`, as [`Self::points_of`] gives them),
+    /// found once per scene.
+    pub(crate) fn part_box(&self, parts: &[usize], points: &[DVec3]) -> Arc<PartBox> {
+        let known = self
+            .part_boxes
+            .lock()
+            .ok()
+            .and_then(|boxes| boxes.get(parts).cloned());
+        if let Some(found) = known {
+            return found;
+        }
+        let found = Arc::new(PartBox::of(points));
+        if let Ok(mut boxes) = self.part_boxes.lock() {
+            boxes.insert(parts.to_vec(), Arc::clone(&found));
+        }
+        found
     }
 
     /// A scene of hand-built `meshes`, each its own single convex collider, with

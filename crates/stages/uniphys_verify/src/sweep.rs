@@ -477,13 +477,14 @@ pub fn sweep(
     metrics.short_slide_gap_max_m = short_slide.flatten().unwrap_or(0.0);
     // The moving group's box and its part's (the same when it carries nothing), found once for
     // the rules below.
-    let moving_boxed = Boxed::new(&moving_points);
+    let moving_boxed = Boxed::of_parts(&moving_points, scene, moving);
     let child_points = &scene.samples[joint.child.0 as usize];
+    let child_part = [joint.child.0 as usize];
     let child_own;
-    let child_boxed = if moving == [joint.child.0 as usize] {
+    let child_boxed = if moving == child_part {
         &moving_boxed
     } else {
-        child_own = Boxed::new(child_points);
+        child_own = Boxed::of_parts(child_points, scene, &child_part);
         &child_own
     };
     // A broad sheet held along an edge (its contact at rest runs along most of it) hangs on
