@@ -128,48 +128,27 @@ impl Scene {
     /// The line the parts `parts` (their samples `points`, as [`Self::points_of`] gives
     /// them) are round about, searched from their box axes, if they are round about one.
     pub(crate) fn round_line(&self, parts: &[usize], points: &[DVec3]) -> Option<RoundLine> {
-        let known = self
-            .round_lines
-            .lock()
-            .ok()
-            .and_then(|lines| lines.get(parts).copied());
-        if let Some(line) = known {
-            return line;
-        }
-        let axes = box_axes(points);
-        // A part far from round about each of its box axes through its centroid is round about
-        // no line near them: the pattern search, hundreds of turns of the samples, is skipped.
-        let centroid = mean(points);
-        let nearly_round = axes
-            .iter()
-            .any(|&a| spin_residual(points, a, centroid) <= ROUND_SCREEN_RESIDUAL_MAX);
-        let line = if nearly_round {
-            round_axis(points, &axes)
-        } else {
-            None
-        };
-        if let Ok(mut lines) = self.round_lines.lock() {
-            lines.insert(parts.to_vec(), line);
-        }
-        line
+        remembered(&self.round_lines, parts, || {
+            let axes = box_axes(points);
+            // A part far from round about each of its box axes through its centroid is round
+            // about no line near them: the pattern search, hundreds of turns of the samples, is
+            // skipped.
+            let centroid = mean(points);
+            let nearly_round = axes
+                .iter()
+                .any(|&a| spin_residual(points, a, centroid) <= ROUND_SCREEN_RESIDUAL_MAX);
+            if nearly_round {
+                round_axis(points, &axes)
+            } else {
+                None
+            }
+        })
     }
 
     /// The box of the parts `parts` (their samples `points`, as [`Self::points_of`] gives them),
     /// found once per scene.
     pub(crate) fn part_box(&self, parts: &[usize], points: &[DVec3]) -> Arc<PartBox> {
-        let known = self
-            .part_boxes
-            .lock()
-            .ok()
-            .and_then(|boxes| boxes.get(parts).cloned());
-        if let Some(found) = known {
-            return found;
-        }
-        let found = Arc::new(PartBox::of(points));
-        if let Ok(mut boxes) = self.part_boxes.lock() {
-            boxes.insert(parts.to_vec(), Arc::clone(&found));
-        }
-        found
+        remembered(&self.part_boxes, parts, || Arc::new(PartBox::of(points)))
     }
 
     /// A scene of hand-built `meshes`, each its own single convex collider, with
@@ -188,6 +167,23 @@ impl Scene {
             .flat_map(|&p| self.samples[p].iter().copied())
             .collect()
     }
+}
+
+/// The value kept in `known` for `parts`, or `compute()`'s, kept for the next caller (a lock
+/// poisoned by a panic elsewhere only costs the cache).
+fn remembered<V: Clone>(
+    known: &Mutex<HashMap<Vec<usize>, V>>,
+    parts: &[usize],
+    compute: impl FnOnce() -> V,
+) -> V {
+    if let Some(value) = known.lock().ok().and_then(|m| m.get(parts).cloned()) {
+        return value;
+    }
+    let value = compute();
+    if let Ok(mut m) = known.lock() {
+        m.insert(parts.to_vec(), value.clone());
+    }
+    value
 }
 
 /// The parts that move with `joint.child`: the child and everything below it in `joints`,
