@@ -70,8 +70,8 @@ pub fn convex_decomposition(mesh: &TriMesh, params: &ConvexParams) -> GeometryRe
 /// an earlier one (the same triangles, the same vertices in its own box frame to 1e-4 of its
 /// size: another key of a keyboard, another knob of an oven) gets that component's V-HACD hulls
 /// moved onto it instead of a V-HACD run of its own. The first of each shape is decomposed
-/// exactly as it would be alone in its mesh. One result per mesh, in order. `progress` is told how many V-HACD runs
-/// have finished of how many, as they finish (from any thread).
+/// exactly as it would be alone in its mesh. One result per mesh, in order. `progress` is told
+/// how many V-HACD runs have finished of how many, as they finish (from any thread).
 ///
 /// Errors: invalid parameters (for all); per mesh, [`GeometryError::Degenerate`] if no hull
 /// with volume remains.
@@ -102,14 +102,25 @@ pub fn convex_decompositions(
     });
     // V-HACD on the first component of each concave shape, on all cores; its hulls moved onto
     // the later copies.
-    let mesh_extents: Vec<f64> = parallel_map(meshes, |m| tight_extent(m));
+    // Each is cut at its mesh's voxel size: the size of every mesh with a concave component.
+    let mut concave = vec![false; meshes.len()];
+    for ((mesh, _), j) in components.iter().zip(&judged) {
+        concave[*mesh] |= matches!(j, Judged::Concave { .. });
+    }
+    let sized: Vec<(bool, &TriMesh)> = concave.into_iter().zip(meshes.iter().copied()).collect();
+    let mesh_extents: Vec<Option<f64>> =
+        parallel_map(&sized, |&(concave, m)| concave.then(|| tight_extent(m)));
     let (frames, resolutions): (Vec<&ComponentFrame>, Vec<u32>) = components
         .iter()
         .zip(&judged)
         .filter_map(|((mesh, _), j)| match j {
             Judged::Concave { frame, .. } => Some((
                 frame.as_ref(),
-                component_resolution(params.voxel_resolution, frame.extent(), mesh_extents[*mesh]),
+                component_resolution(
+                    params.voxel_resolution,
+                    frame.extent(),
+                    mesh_extents[*mesh].unwrap_or_default(),
+                ),
             )),
             Judged::Done(_) => None,
         })
@@ -181,9 +192,10 @@ pub fn convex_decompositions(
 const MIN_COMPONENT_RESOLUTION: u32 = 16;
 
 /// V-HACD's resolution for a component of largest extent `component_m` in a mesh of largest
-/// extent `mesh_m` (both along their own tight boxes, so the same in any pose): `resolution` voxels across the whole mesh, so a component gets the mesh's
-/// voxel size (a handle on a door is cut as finely as the door, not 64 voxels across the handle
-/// alone), and at least [`MIN_COMPONENT_RESOLUTION`] across itself.
+/// extent `mesh_m` (both along their own tight boxes, so the same in any pose): `resolution`
+/// voxels across the whole mesh, so a component gets the mesh's voxel size (a handle on a door
+/// is cut as finely as the door, not 64 voxels across the handle alone), and at least
+/// [`MIN_COMPONENT_RESOLUTION`] across itself.
 fn component_resolution(resolution: u32, component_m: f64, mesh_m: f64) -> u32 {
     let share = if mesh_m > 0.0 {
         (component_m / mesh_m).min(1.0)

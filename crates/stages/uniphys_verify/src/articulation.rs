@@ -120,7 +120,7 @@ pub fn verify_joint(
     let joint = &joints[i];
     let moving = moving_group(joints, joint.child);
     let metrics = sweep(scene, joint, &moving, params)?;
-    let misfit = fit::misfit(scene, joint, &scene.points_of(&moving), &metrics);
+    let misfit = fit::misfit(scene, joint, &moving, &scene.points_of(&moving), &metrics);
     let reasons = metrics.failures(params);
     if reasons.is_empty() {
         let message = format!("{} steps without failure", metrics.steps);

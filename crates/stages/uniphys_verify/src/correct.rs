@@ -94,8 +94,9 @@ pub(crate) fn correct_failed(
     let moving_points = scene.points_of(moving);
     // The misfit depends only on the joint and what the sweep measures at rest, so the screen's
     // serves the full sweep too.
-    let fit =
-        |m: &SweepMetrics, j: &Joint| misfit(scene, j, &moving_points, m) + cut_penalty(joint, j);
+    let fit = |m: &SweepMetrics, j: &Joint| {
+        misfit(scene, j, moving, &moving_points, m) + cut_penalty(joint, j)
+    };
     let mut chosen: Option<Correction> = None;
     let later = std::iter::once_with(|| change_tiers(scene, joint, moving, params, nearly_passed));
     for tier in range_tiers(joint, original)

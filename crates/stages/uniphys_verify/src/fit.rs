@@ -10,7 +10,7 @@
 
 use std::f64::consts::PI;
 
-use uniphys_geometry::{Aabb, DQuat, DVec3, KdTree, box_axes};
+use uniphys_geometry::{Aabb, DQuat, DVec3, KdTree};
 use uniphys_types::{Joint, JointKind};
 
 use crate::handle::handled_panel_spun;
@@ -45,6 +45,7 @@ const SPIN_WEIGHT: f64 = 5.0;
 pub(crate) fn misfit(
     scene: &Scene,
     joint: &Joint,
+    moving_parts: &[usize],
     moving: &[DVec3],
     metrics: &SweepMetrics,
 ) -> f64 {
@@ -57,7 +58,7 @@ pub(crate) fn misfit(
         JointKind::Revolute => {}
         JointKind::Prismatic => {
             let lost = metrics.lost_contact_steps as f64 / metrics.steps.max(1) as f64;
-            return lost + slide_skew(scene, joint, moving, axis);
+            return lost + slide_skew(scene, joint, moving_parts, moving, axis);
         }
         JointKind::Continuous | JointKind::Fixed => return 0.0,
     }
@@ -92,18 +93,25 @@ const SLIDE_SQUARE_RAD: f64 = 0.26;
 const SLIDE_SKEW_SPAN_RAD: f64 = 0.52;
 
 /// How far a slide along unit `axis` runs askew of the directions real slides are built along:
-/// the edges of the moving part's own box (a drawer, a button pushed along its own axis, a
-/// sliding door), of its parent's (a runner, a slot), and the vertical of an object on the
-/// ground (a lid lifted). 0 within [`SLIDE_SQUARE_RAD`] of one, rising to 1 over
-/// [`SLIDE_SKEW_SPAN_RAD`] more.
-fn slide_skew(scene: &Scene, joint: &Joint, moving: &[DVec3], axis: DVec3) -> f64 {
+/// the edges of the moving parts' box (`moving_parts`, sampled at `moving`: a drawer, a button
+/// pushed along its own axis, a sliding door), of its parent's (a runner, a slot), and the
+/// vertical of an object on the ground (a lid lifted). 0 within [`SLIDE_SQUARE_RAD`] of one,
+/// rising to 1 over [`SLIDE_SKEW_SPAN_RAD`] more. The boxes are the scene's, found once.
+fn slide_skew(
+    scene: &Scene,
+    joint: &Joint,
+    moving_parts: &[usize],
+    moving: &[DVec3],
+    axis: DVec3,
+) -> f64 {
     if axis == DVec3::ZERO || moving.is_empty() {
         return 0.0;
     }
-    let parent = scene.points_of(&[joint.parent.0 as usize]);
-    let mut square: Vec<DVec3> = box_axes(moving).to_vec();
-    if !parent.is_empty() {
-        square.extend(box_axes(&parent));
+    let mut square: Vec<DVec3> = scene.part_box(moving_parts, moving).axes.to_vec();
+    let parent = [joint.parent.0 as usize];
+    let parent_points = &scene.samples[parent[0]];
+    if !parent_points.is_empty() {
+        square.extend(scene.part_box(&parent, parent_points).axes);
     }
     if scene.ground_z_m.is_some() {
         square.push(DVec3::Z);
