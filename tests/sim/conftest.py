@@ -16,6 +16,10 @@ from pathlib import Path
 import pybullet_data
 import pytest
 
+# MuJoCo renders offscreen through EGL (Mesa's software driver on a machine without a GPU); it
+# picks its GL backend when first imported, so this is set before any test imports it.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((REPO / "test_data" / "examples").glob("*.glb"))
 # Real objects beside the repository (never copied into it); run with `--ignore-joints`, so what

@@ -5,7 +5,7 @@
 //! | `model.urdf` | URDF for PyBullet, MuJoCo's importer, Isaac Sim, SAPIEN |
 //! | `model.xml` | MJCF for MuJoCo |
 //! | `model.usda` | USD stage with UsdPhysics for Isaac Sim and Isaac Lab (visuals in the link's colour) |
-//! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame |
+//! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame; a part drawn with textures is split by material: `part_<id>_visual_m<k>.obj` with UVs and an MTL, its image as `texture_<t>.png` |
 //! | `meshes/part_<id>_collision_<k>.obj` | convex collision hulls, in the link frame |
 //! | `parts/part_<id>.obj`, `.mtl`, `texture_<t>.png` | part meshes in the object frame with UVs, materials and textures (UniPhys-40K layout) |
 //! | `annotations/object.json`, `annotations/part_<id>.json`, `meta_data.json` | UniPhys-40K record |
@@ -26,6 +26,7 @@ mod record;
 mod report;
 mod urdf;
 mod usd;
+mod visuals;
 mod xml;
 
 pub use artifact::Artifact;
@@ -83,10 +84,19 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
         ),
     ];
     for (i, link) in model.links.iter().enumerate() {
-        artifacts.push(Artifact::new(
-            format!("{MESH_DIR}/{}.obj", link.visual_stem),
-            obj_writer::write_obj(&input.part_meshes[i], link.anchor),
-        ));
+        for visual in &link.visuals {
+            let (obj, mtl) = visuals::visual_files(&input.part_meshes[i], visual, link.anchor);
+            artifacts.push(Artifact::new(
+                format!("{MESH_DIR}/{}.obj", visual.stem),
+                obj,
+            ));
+            if let Some(mtl) = mtl {
+                artifacts.push(Artifact::new(
+                    format!("{MESH_DIR}/{}.mtl", visual.stem),
+                    mtl,
+                ));
+            }
+        }
         for (hull, stem) in input.colliders[i].iter().zip(&link.collision_stems) {
             artifacts.push(Artifact::new(
                 format!("{MESH_DIR}/{stem}.obj"),
@@ -100,11 +110,22 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
             link.rgba,
         ));
     }
-    artifacts.extend(part_files::texture_files(
-        input.part_meshes,
-        input.materials,
-        input.textures,
-    )?);
+    let textures = part_files::texture_files(input.part_meshes, input.materials, input.textures)?;
+    // The link meshes' textures beside them, for the simulator models.
+    let linked: std::collections::BTreeSet<usize> = model
+        .links
+        .iter()
+        .flat_map(|l| l.visuals.iter().filter_map(|v| v.texture))
+        .collect();
+    for (index, texture) in &textures {
+        if linked.contains(index) {
+            artifacts.push(Artifact::new(
+                format!("{MESH_DIR}/{}", visuals::texture_file(*index)),
+                texture.bytes.clone(),
+            ));
+        }
+    }
+    artifacts.extend(textures.into_iter().map(|(_, a)| a));
     let mut report = input.report.clone();
     // A part passes when no check about it failed in the sections run so far (intrinsic
     // verification among them).

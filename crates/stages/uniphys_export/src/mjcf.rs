@@ -7,6 +7,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::MESH_DIR;
 use crate::model::{Link, Model};
+use crate::visuals::texture_file;
 use crate::xml::{Element, coords, num, nums, rgba};
 
 /// Armature as seconds times damping: reflected inertia of 10 % of the damping time constant,
@@ -25,6 +26,7 @@ pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
         Element::new("compiler")
             .attr("angle", "radian")
             .attr("meshdir", MESH_DIR)
+            .attr("texturedir", MESH_DIR)
             .attr("autolimits", "true"),
     );
     root.push(
@@ -62,18 +64,31 @@ pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
             ),
     );
     let mut asset = Element::new("asset");
+    let mut textures = std::collections::BTreeSet::new();
     for link in &model.links {
-        asset.push(
-            Element::new("material")
-                .attr("name", format!("{}_material", link.name))
-                .attr("rgba", rgba(link.rgba)),
-        );
-        asset.push(
-            Element::new("mesh")
-                .attr("name", link.visual_stem.clone())
-                .attr("file", format!("{}.obj", link.visual_stem))
-                .attr("inertia", "shell"),
-        );
+        for visual in &link.visuals {
+            let mut material = Element::new("material")
+                .attr("name", visual.material.clone())
+                .attr("rgba", rgba(visual.rgba));
+            if let Some(t) = visual.texture {
+                if textures.insert(t) {
+                    asset.push(
+                        Element::new("texture")
+                            .attr("name", texture_name(&model.name, t))
+                            .attr("type", "2d")
+                            .attr("file", texture_file(t)),
+                    );
+                }
+                material = material.attr("texture", texture_name(&model.name, t));
+            }
+            asset.push(material);
+            asset.push(
+                Element::new("mesh")
+                    .attr("name", visual.stem.clone())
+                    .attr("file", format!("{}.obj", visual.stem))
+                    .attr("inertia", "shell"),
+            );
+        }
         for stem in &link.collision_stems {
             asset.push(
                 Element::new("mesh")
@@ -99,6 +114,11 @@ pub(crate) fn write_mjcf(model: &Model<'_>) -> String {
         root.push(contact);
     }
     root.to_document()
+}
+
+/// Name of texture `index` in the MJCF; it carries the model name, as the classes do.
+fn texture_name(model: &str, index: usize) -> String {
+    format!("{model}_texture_{index}")
 }
 
 /// The body of link `index`, with its joint (if movable) and its child bodies, recursively.
@@ -142,13 +162,15 @@ fn body(model: &Model<'_>, index: usize, joint: Option<&Joint>) -> Element {
                 .attr("armature", num(ARMATURE_SECS * j.damping)),
         );
     }
-    el.push(
-        Element::new("geom")
-            .attr("name", link.visual_stem.clone())
-            .attr("class", format!("{}_visual", model.name))
-            .attr("mesh", link.visual_stem.clone())
-            .attr("material", format!("{}_material", link.name)),
-    );
+    for visual in &link.visuals {
+        el.push(
+            Element::new("geom")
+                .attr("name", visual.stem.clone())
+                .attr("class", format!("{}_visual", model.name))
+                .attr("mesh", visual.stem.clone())
+                .attr("material", visual.material.clone()),
+        );
+    }
     for stem in &link.collision_stems {
         el.push(
             Element::new("geom")

@@ -4,6 +4,7 @@
 use uniphys_geometry::{DMat3, DVec3, with_triangle_margin};
 use uniphys_types::{AssetRecord, Joint, JointKind, PartId};
 
+use crate::visuals::{Visual, link_visuals};
 use crate::{ExportError, ExportInput, ExportResult};
 
 /// One link (rigid body) of the export: a part.
@@ -20,8 +21,8 @@ pub(crate) struct Link {
     pub inertia_kg_m2: DMat3,
     pub friction: f64,
     pub rgba: [f32; 4],
-    /// Visual mesh file stem (`part_<id>_visual`).
-    pub visual_stem: String,
+    /// Visual meshes: one in `rgba`, or one per textured material and one for the rest.
+    pub visuals: Vec<Visual>,
     /// Collision mesh file stems (`part_<id>_collision_<k>`).
     pub collision_stems: Vec<String>,
 }
@@ -95,16 +96,24 @@ impl<'a> Model<'a> {
             let collision_stems = (0..input.colliders[i].len())
                 .map(|k| format!("{}_collision_{k}", part.id))
                 .collect();
+            let name = format!("{}_{}", part.id, sanitize(&part.name));
+            let visuals = link_visuals(
+                &part.id.to_string(),
+                &name,
+                &input.part_meshes[i],
+                input.materials,
+                input.part_colors[i],
+            );
             links.push(Link {
                 id: part.id,
-                name: format!("{}_{}", part.id, sanitize(&part.name)),
+                name,
                 anchor,
                 mass_kg: part.mass.mass_kg.value,
                 com_in_link: com - anchor,
                 inertia_kg_m2: inertia,
                 friction: part.properties.friction_coefficient.value,
                 rgba: input.part_colors[i],
-                visual_stem: format!("{}_visual", part.id),
+                visuals,
                 collision_stems,
             });
         }

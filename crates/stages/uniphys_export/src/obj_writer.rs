@@ -1,5 +1,5 @@
-//! Wavefront OBJ output of link meshes: one object per file, no groups and no materials (MuJoCo
-//! wants one mesh per file; the model files carry the colour).
+//! Wavefront OBJ output of the collision hulls: one object per file, no groups and no materials
+//! (MuJoCo wants one mesh per file). The visual meshes are written by [`crate::visuals`].
 
 use std::fmt::Write as _;
 

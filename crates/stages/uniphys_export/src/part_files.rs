@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use uniphys_geometry::{SurfaceMaterial, Texture, TriMesh};
 use uniphys_types::PartId;
 
+use crate::visuals::texture_file;
 use crate::xml::{coord, short_f32};
 use crate::{Artifact, ExportError, ExportResult};
 
@@ -31,11 +32,6 @@ fn material_name(index: Option<u32>, materials: &[SurfaceMaterial]) -> String {
         }
         None => DEFAULT_MATERIAL.to_owned(),
     }
-}
-
-/// Path of a texture in the record.
-fn texture_file(index: usize) -> String {
-    format!("texture_{index}.png")
 }
 
 /// OBJ and MTL of one part.
@@ -97,12 +93,13 @@ pub(crate) fn part_files(
     ]
 }
 
-/// Every texture that a part with texture coordinates uses, once, as PNG.
+/// Every texture that a part with texture coordinates uses, once, as PNG in `parts/`, with its
+/// index.
 pub(crate) fn texture_files(
     meshes: &[TriMesh],
     materials: &[SurfaceMaterial],
     textures: &[Texture],
-) -> ExportResult<Vec<Artifact>> {
+) -> ExportResult<Vec<(usize, Artifact)>> {
     let used: BTreeSet<usize> = meshes
         .iter()
         .filter(|m| m.uvs.is_some())
@@ -116,9 +113,9 @@ pub(crate) fn texture_files(
                 "material refers to texture {t}, which does not exist"
             ))
         })?;
-        out.push(Artifact::new(
-            format!("parts/{}", texture_file(t)),
-            encode_png(texture)?,
+        out.push((
+            t,
+            Artifact::new(format!("parts/{}", texture_file(t)), encode_png(texture)?),
         ));
     }
     Ok(out)
@@ -206,8 +203,11 @@ mod tests {
         let (mesh, materials, textures) = textured_quad();
         let files = texture_files(&[mesh.clone(), mesh], &materials, &textures).unwrap();
         assert_eq!(files.len(), 1);
-        assert_eq!(files[0].path, "parts/texture_0.png");
-        let decoded = image::load_from_memory(&files[0].bytes).unwrap().to_rgba8();
+        assert_eq!(files[0].0, 0);
+        assert_eq!(files[0].1.path, "parts/texture_0.png");
+        let decoded = image::load_from_memory(&files[0].1.bytes)
+            .unwrap()
+            .to_rgba8();
         assert_eq!(decoded.into_raw(), textures[0].rgba8);
     }
 

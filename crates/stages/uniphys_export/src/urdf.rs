@@ -12,6 +12,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::MESH_DIR;
 use crate::model::{Link, Model};
+use crate::visuals::texture_file;
 use crate::xml::{Element, coords, num, rgba};
 
 /// Effort and velocity limits written on every movable joint (URDF requires them; passive
@@ -74,17 +75,23 @@ fn link_element(link: &Link) -> Element {
         );
     let mut el = Element::new("link")
         .attr("name", link.name.clone())
-        .child(inertial)
-        .child(
+        .child(inertial);
+    for visual in &link.visuals {
+        let mut material = Element::new("material")
+            .attr("name", visual.material.clone())
+            .child(Element::new("color").attr("rgba", rgba(visual.rgba)));
+        if let Some(t) = visual.texture {
+            material = material.child(
+                Element::new("texture").attr("filename", format!("{MESH_DIR}/{}", texture_file(t))),
+            );
+        }
+        el.push(
             Element::new("visual")
-                .attr("name", link.visual_stem.clone())
-                .child(mesh_geometry(&link.visual_stem))
-                .child(
-                    Element::new("material")
-                        .attr("name", format!("{}_material", link.name))
-                        .child(Element::new("color").attr("rgba", rgba(link.rgba))),
-                ),
+                .attr("name", visual.stem.clone())
+                .child(mesh_geometry(&visual.stem))
+                .child(material),
         );
+    }
     for stem in &link.collision_stems {
         el.push(
             Element::new("collision")

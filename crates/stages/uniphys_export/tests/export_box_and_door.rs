@@ -164,7 +164,9 @@ fn urdf_has_world_link_limits_dynamics_and_inertia_at_the_com() {
 fn mjcf_nests_the_door_with_its_joint_and_separates_visual_from_collision() {
     let out = run_export();
     let mjcf = text(&out, "model.xml");
-    assert!(mjcf.contains(r#"<compiler angle="radian" meshdir="meshes" autolimits="true"/>"#));
+    assert!(mjcf.contains(
+        r#"<compiler angle="radian" meshdir="meshes" texturedir="meshes" autolimits="true"/>"#
+    ));
     let body = mjcf.find(r#"<body name="part_0_body""#).unwrap();
     let door = mjcf
         .find(r#"<body name="part_1_door" pos="-0.3 -0.21 0.3">"#)
