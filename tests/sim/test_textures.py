@@ -1,7 +1,8 @@
 """Textures reach the simulators: a cube whose faces carry a four-colour image (an OBJ with `map_Kd`)
 goes through `uniphys run`; MuJoCo renders our MJCF offscreen as it renders the source mesh with
-the source image, PyBullet loads the texture with the URDF's visual, and yourdfpy reads the image
-the URDF names."""
+the source image, PyBullet loads the texture with the URDF's visual, yourdfpy reads the image the
+URDF names, and usd-core finds the stage valid (shading and subsets included) with the faces bound
+to a preview surface that reads the image."""
 
 import os
 import struct
@@ -125,3 +126,34 @@ def test_the_urdf_visual_carries_the_texture_to_pybullet_and_yourdfpy(cube):
     for (qx, qy), colour in QUADRANTS.items():
         y, x = (2 * qy + 1) * quarter, (2 * qx + 1) * quarter
         assert tuple(image[y, x]) == colour, ((qx, qy), image[y, x])
+
+
+def test_the_usd_stage_binds_the_faces_to_a_surface_reading_the_image(cube):
+    from PIL import Image
+    from pxr import Usd, UsdGeom, UsdShade, UsdValidation
+
+    _, out = cube
+    stage = Usd.Stage.Open(str(out / "model.usda"))
+    registry = UsdValidation.ValidationRegistry()
+    prefixes = ("usdShadeValidators:", "usdGeomValidators:", "usdPhysicsValidators:", "usdValidation:")
+    names = [v.GetMetadata().name for v in registry.GetOrLoadAllValidators()]
+    chosen = [registry.GetOrLoadValidatorByName(n) for n in names if n.startswith(prefixes)]
+    assert any(n.startswith("usdShadeValidators:") for n in names)
+    errors = [f"{e.GetName()}: {e.GetMessage()}" for e in UsdValidation.ValidationContext(chosen).Validate(stage)]
+    assert errors == []
+    visual = next(p for p in stage.Traverse() if p.GetName() == "visual")
+    mesh = UsdGeom.Mesh(visual)
+    st = UsdGeom.PrimvarsAPI(visual).GetPrimvar("st")
+    assert len(st.Get()) == len(mesh.GetPointsAttr().Get())
+    subsets = UsdGeom.Subset.GetAllGeomSubsets(UsdGeom.Imageable(visual))
+    assert len(subsets) == 1
+    assert len(subsets[0].GetIndicesAttr().Get()) == len(mesh.GetFaceVertexCountsAttr().Get())
+    material, _ = UsdShade.MaterialBindingAPI(subsets[0].GetPrim()).ComputeBoundMaterial()
+    surface = material.ComputeSurfaceSource()[0]
+    assert surface.GetIdAttr().Get() == "UsdPreviewSurface"
+    texture = UsdShade.Shader(surface.GetInput("diffuseColor").GetConnectedSources()[0][0].source.GetPrim())
+    assert texture.GetIdAttr().Get() == "UsdUVTexture"
+    image = np.asarray(Image.open(texture.GetInput("file").Get().resolvedPath).convert("RGB"))
+    quarter = SIZE_PX // 4
+    for (qx, qy), colour in QUADRANTS.items():
+        assert tuple(image[(2 * qy + 1) * quarter, (2 * qx + 1) * quarter]) == colour

@@ -4,7 +4,7 @@
 //! |---|---|
 //! | `model.urdf` | URDF for PyBullet, MuJoCo's importer, Isaac Sim, SAPIEN |
 //! | `model.xml` | MJCF for MuJoCo |
-//! | `model.usda` | USD stage with UsdPhysics for Isaac Sim and Isaac Lab (visuals in the link's colour) |
+//! | `model.usda` | USD stage with UsdPhysics for Isaac Sim and Isaac Lab (visuals in the link's colour, textured faces bound to a preview surface) |
 //! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame; a part drawn with textures is split by material: `part_<id>_visual_m<k>.obj` with UVs and an MTL, its image as `texture_<t>.png` |
 //! | `meshes/part_<id>_collision_<k>.obj` | convex collision hulls, in the link frame |
 //! | `parts/part_<id>.obj`, `.mtl`, `texture_<t>.png` | part meshes in the object frame with UVs, materials and textures (UniPhys-40K layout) |

@@ -13,16 +13,22 @@
 //! Drives are off; a joint's damping is a drive with no stiffness and no target speed, which is
 //! a viscous damper (angular damping per degree, as UsdPhysics measures angles). The root is
 //! fixed to the world by a joint with no `body0`. Metres, kilograms and Z up are stated in the
-//! stage's metadata. Materials and textures are not written yet (see issue 21): visuals carry
-//! the link's colour only.
+//! stage's metadata. A visual carries the link's display colour; the faces of a textured
+//! material are a `GeomSubset` bound to a `UsdPreviewSurface` material under `Looks` whose
+//! diffuse colour is the texture (`meshes/texture_<t>.png`, read at the mesh's `st`).
 
 use std::fmt::Write as _;
 
 use uniphys_geometry::{DMat3, DQuat, DVec3, TriMesh, symmetric_eigen};
 use uniphys_types::{Joint, JointKind};
 
+use crate::MESH_DIR;
 use crate::model::{Link, Model, sanitize};
-use crate::xml::{coord, num};
+use crate::visuals::{Visual, texture_file};
+use crate::xml::{coord, num, short_f32};
+
+/// Scope of the materials under the default prim.
+const LOOKS: &str = "Looks";
 
 /// Writes the stage for `model`, with the visual mesh and the hulls of each link (object frame,
 /// in the order of `model.links`).
@@ -38,8 +44,9 @@ pub(crate) fn write_usda(model: &Model<'_>, visuals: &[TriMesh], hulls: &[Vec<Tr
         "def Xform \"{root}\" (\n    prepend apiSchemas = [\"PhysicsArticulationRootAPI\"]\n)\n{{"
     );
     for (i, link) in model.links.iter().enumerate() {
-        write_link(&mut s, link, &visuals[i], &hulls[i]);
+        write_link(&mut s, root, link, &visuals[i], &hulls[i]);
     }
+    write_looks(&mut s, root, model);
     let root_link = &model.links[model.root];
     let _ = writeln!(
         s,
@@ -58,7 +65,7 @@ pub(crate) fn write_usda(model: &Model<'_>, visuals: &[TriMesh], hulls: &[Vec<Tr
 }
 
 /// One link: its rigid body, mass, visual and hulls, in its own frame.
-fn write_link(s: &mut String, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) {
+fn write_link(s: &mut String, root: &str, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) {
     let (moments, axes) = principal_inertia(link.inertia_kg_m2);
     let _ = writeln!(
         s,
@@ -81,15 +88,57 @@ fn write_link(s: &mut String, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) 
         quat(axes)
     );
     let [r, g, b, _] = link.rgba;
+    let mut attributes = vec![format!(
+        "color3f[] primvars:displayColor = [({r}, {g}, {b})]"
+    )];
+    let textured: Vec<&Visual> = link
+        .visuals
+        .iter()
+        .filter(|v| v.texture.is_some())
+        .collect();
+    let mut subsets = String::new();
+    if let (Some(uvs), false) = (&visual.uvs, textured.is_empty()) {
+        // USD's t runs up the image, glTF's v down.
+        let st: Vec<String> = uvs
+            .iter()
+            .map(|[u, v]| format!("({}, {})", short_f32(*u), short_f32(1.0 - *v)))
+            .collect();
+        attributes.push(format!(
+            "texCoord2f[] primvars:st = [{}] (\n                interpolation = \"vertex\"\n            )",
+            st.join(", ")
+        ));
+        attributes.push(
+            "uniform token subsetFamily:materialBind:familyType = \"nonOverlapping\"".to_owned(),
+        );
+        for piece in textured {
+            let indices: Vec<String> = piece.faces.iter().map(ToString::to_string).collect();
+            let lines = [
+                format!("            def GeomSubset \"{}\" (", piece.stem),
+                "                prepend apiSchemas = [\"MaterialBindingAPI\"]".to_owned(),
+                "            )".to_owned(),
+                "            {".to_owned(),
+                "                uniform token elementType = \"face\"".to_owned(),
+                "                uniform token familyName = \"materialBind\"".to_owned(),
+                format!("                int[] indices = [{}]", indices.join(", ")),
+                format!(
+                    "                rel material:binding = </{root}/{LOOKS}/{}>",
+                    piece.material
+                ),
+                "            }".to_owned(),
+            ];
+            for line in lines {
+                let _ = writeln!(subsets, "{line}");
+            }
+        }
+    }
     write_mesh(
         s,
         "visual",
         visual,
         link.anchor,
-        &[format!(
-            "color3f[] primvars:displayColor = [({r}, {g}, {b})]"
-        )],
-        None,
+        &attributes,
+        (!subsets.is_empty()).then_some("[\"MaterialBindingAPI\"]"),
+        &subsets,
     );
     for (k, hull) in hulls.iter().enumerate() {
         write_mesh(
@@ -102,6 +151,7 @@ fn write_link(s: &mut String, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) 
                 "uniform token purpose = \"guide\"".to_owned(),
             ],
             Some("[\"PhysicsCollisionAPI\", \"PhysicsMeshCollisionAPI\"]"),
+            "",
         );
     }
     s.push_str("    }\n");
@@ -115,6 +165,7 @@ fn write_mesh(
     origin: DVec3,
     attributes: &[String],
     schemas: Option<&str>,
+    children: &str,
 ) {
     let _ = write!(s, "        def Mesh \"{name}\"");
     if let Some(schemas) = schemas {
@@ -143,7 +194,63 @@ fn write_mesh(
         let sep = if n == 0 { "" } else { ", " };
         let _ = write!(s, "{sep}{}", point(*p - origin));
     }
-    s.push_str("]\n        }\n");
+    s.push_str("]\n");
+    s.push_str(children);
+    s.push_str("        }\n");
+}
+
+/// The materials of the textured visuals, under `/root/Looks`: a `UsdPreviewSurface` whose
+/// diffuse colour is the texture (read at the mesh's `st`) times the material's base colour.
+fn write_looks(s: &mut String, root: &str, model: &Model<'_>) {
+    let textured: Vec<(&Visual, usize)> = model
+        .links
+        .iter()
+        .flat_map(|l| l.visuals.iter())
+        .filter_map(|v| v.texture.map(|t| (v, t)))
+        .collect();
+    if textured.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "    def Scope \"{LOOKS}\"\n    {{");
+    for (visual, texture) in textured {
+        let path = format!("/{root}/{LOOKS}/{}", visual.material);
+        let [r, g, b, a] = visual.rgba.map(short_f32);
+        let lines = [
+            format!("        def Material \"{}\"", visual.material),
+            "        {".to_owned(),
+            format!("            token outputs:surface.connect = <{path}/surface.outputs:surface>"),
+            "            def Shader \"surface\"".to_owned(),
+            "            {".to_owned(),
+            "                uniform token info:id = \"UsdPreviewSurface\"".to_owned(),
+            format!(
+                "                color3f inputs:diffuseColor.connect = <{path}/texture.outputs:rgb>"
+            ),
+            "                token outputs:surface".to_owned(),
+            "            }".to_owned(),
+            "            def Shader \"texture\"".to_owned(),
+            "            {".to_owned(),
+            "                uniform token info:id = \"UsdUVTexture\"".to_owned(),
+            format!(
+                "                asset inputs:file = @{MESH_DIR}/{}@",
+                texture_file(texture)
+            ),
+            format!("                float2 inputs:st.connect = <{path}/st.outputs:result>"),
+            format!("                float4 inputs:scale = ({r}, {g}, {b}, {a})"),
+            "                float3 outputs:rgb".to_owned(),
+            "            }".to_owned(),
+            "            def Shader \"st\"".to_owned(),
+            "            {".to_owned(),
+            "                uniform token info:id = \"UsdPrimvarReader_float2\"".to_owned(),
+            "                string inputs:varname = \"st\"".to_owned(),
+            "                float2 outputs:result".to_owned(),
+            "            }".to_owned(),
+            "        }".to_owned(),
+        ];
+        for line in lines {
+            let _ = writeln!(s, "{line}");
+        }
+    }
+    s.push_str("    }\n");
 }
 
 /// One joint between two links, as the prim `prim` under `/root`; both joint frames sit at the
