@@ -157,3 +157,18 @@ def test_the_usd_stage_binds_the_faces_to_a_surface_reading_the_image(cube):
     quarter = SIZE_PX // 4
     for (qx, qy), colour in QUADRANTS.items():
         assert tuple(image[(2 * qy + 1) * quarter, (2 * qx + 1) * quarter]) == colour
+
+
+def test_a_result_exported_again_keeps_its_textures(cube, tmp_path):
+    import mujoco
+
+    _, out = cube
+    again = tmp_path / "again"
+    run = subprocess.run([uniphys_bin(), "export", str(out), "--format", "mjcf", "--out", str(again)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert (again / "meshes" / "texture_0.png").read_bytes() == (out / "meshes" / "texture_0.png").read_bytes()
+    first = quadrant_chromaticities(render(mujoco.MjModel.from_xml_path(str(out / "model.xml"))))
+    second = quadrant_chromaticities(render(mujoco.MjModel.from_xml_path(str(again / "model.xml"))))
+    for want, got in zip(first, second):
+        assert np.abs(want - got).max() < 0.01, (want, got)

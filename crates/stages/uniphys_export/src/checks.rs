@@ -4,6 +4,9 @@
 use uniphys_geometry::{DMat3, MassProperties, TriMesh, inertia_is_physical};
 use uniphys_types::{AssetRecord, CheckOutcome, CheckResult, JointKind, ReportSection};
 
+/// Name of the report section the export adds.
+pub(crate) const EXPORT_SECTION: &str = "export";
+
 fn check(
     check: &str,
     subject: impl Into<String>,
@@ -92,7 +95,7 @@ pub(crate) fn export_checks(record: &AssetRecord, colliders: &[Vec<TriMesh>]) ->
         }
     }
     ReportSection {
-        name: "export".into(),
+        name: EXPORT_SECTION.into(),
         checks,
     }
 }

@@ -7,6 +7,14 @@ pub enum ExportError {
     /// The inputs do not fit together (e.g. fewer meshes than parts).
     #[error("export inputs do not match: {0}")]
     InputMismatch(String),
+    /// A file of an earlier export could not be read back.
+    #[error("cannot read {path} of the earlier export: {message}")]
+    Unreadable {
+        /// Path in the export's folder.
+        path: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// A JSON document could not be serialised.
     #[error("could not serialise {path}: {message}")]
     Json {

@@ -23,6 +23,7 @@ mod model;
 mod obj_writer;
 mod part_files;
 mod record;
+mod reexport;
 mod report;
 mod urdf;
 mod usd;
@@ -32,6 +33,7 @@ mod xml;
 pub use artifact::Artifact;
 pub use error::{ExportError, ExportResult};
 pub use record::RECORD_TYPE_NAME;
+pub use reexport::Exported;
 
 use uniphys_geometry::{SurfaceMaterial, Texture, TriMesh};
 use uniphys_types::{AssetRecord, CheckOutcome, PartId, VerificationReport};

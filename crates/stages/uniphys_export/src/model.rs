@@ -39,6 +39,9 @@ pub(crate) struct Model<'a> {
     pub exclude_pairs: Vec<(usize, usize, ExcludeReason)>,
 }
 
+/// How `report.json` names contacts excluded because the parts touch at rest.
+pub(crate) const TOUCH_AT_REST: &str = "touch at rest";
+
 /// Why two links' contacts are excluded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum ExcludeReason {
@@ -53,7 +56,7 @@ impl ExcludeReason {
     pub(crate) fn label(self) -> &'static str {
         match self {
             Self::Jointed => "jointed",
-            Self::TouchAtRest => "touch at rest",
+            Self::TouchAtRest => TOUCH_AT_REST,
         }
     }
 }

@@ -6,7 +6,6 @@
 //! The job-queue workers run the same stage functions; `uniphys run` calls [`run`].
 
 mod cavities;
-mod colors;
 mod error;
 mod learned;
 mod lvlm;

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use uniphys_annotate::{AnnotateInput, AnnotateOptions, annotate};
-use uniphys_geometry::{DMat3, DVec3, MeshAsset, TriMesh};
+use uniphys_geometry::{DMat3, DVec3, MeshAsset, TriMesh, display_rgba};
 use uniphys_ground::{PartInput, RigidMass, articulate};
 use uniphys_lvlm::{
     AnswerCache, CostLedger, DirCache, LvlmClient, LvlmConfig, NoCache, NoRateLimit, RateLimiter,
@@ -19,7 +19,6 @@ use uniphys_lvlm::{
 use uniphys_types::AssetRecord;
 
 use crate::PipelineResult;
-use crate::colors::part_color;
 use crate::run::Prepared;
 
 /// How to reach the LVLM and what the stage may spend.
@@ -81,7 +80,7 @@ pub(crate) fn ground_lvlm(
     let colours: Vec<[f32; 4]> = asset
         .parts
         .iter()
-        .map(|p| part_color(asset, &p.mesh))
+        .map(|p| display_rgba(&p.mesh, &asset.materials, &asset.textures))
         .collect();
     let names: Vec<String> = asset.parts.iter().map(|p| p.name.clone()).collect();
     let annotation = annotate(

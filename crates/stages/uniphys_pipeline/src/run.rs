@@ -15,7 +15,8 @@ use uniphys_decompose::{
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{
     ConvexParams, DMat4, DVec3, DistanceProbe, MassProperties, MeshAsset, TriMesh, VolumeMethod,
-    WallSamples, convex_decompositions, parallel_map, solid_mass_properties,
+    WallSamples, convex_decompositions, display_rgba, materials_by_coverage, parallel_map,
+    solid_mass_properties,
 };
 use uniphys_ground::{
     MAX_WALL_FACTOR, ObjectKind, PartInput, PartMassInput, RigidMass, articulate, ground_part,
@@ -28,7 +29,6 @@ use uniphys_types::{
 };
 
 use crate::cavities::carve_cavities;
-use crate::colors::{materials_by_coverage, part_color};
 use crate::learned::{LearnedOptions, ground_learned};
 use crate::lvlm::{LvlmOptions, ground_lvlm};
 use crate::mass_calibration::calibrate_walls;
@@ -371,7 +371,7 @@ pub fn run(
         let colors: Vec<[f32; 4]> = asset
             .parts
             .iter()
-            .map(|p| part_color(&asset, &p.mesh))
+            .map(|p| display_rgba(&p.mesh, &asset.materials, &asset.textures))
             .collect();
         let mut report = VerificationReport::default();
         report

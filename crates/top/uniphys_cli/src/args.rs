@@ -19,6 +19,10 @@ pub struct Cli {
 pub enum Command {
     /// Run the whole pipeline on one asset in this process (no database, no network).
     Run(RunArgs),
+    /// Export an earlier result again (its URDF, MJCF and USD and their meshes, or everything)
+    /// from its own files, without running the pipeline: after an update of the exporter, or to
+    /// write one simulator's files elsewhere.
+    Export(ExportArgs),
     /// Print the mass properties of every part of a mesh file as JSON: exact (closed meshes) and
     /// voxelised, in the file's own coordinates (no up-axis change).
     Measure {
@@ -71,6 +75,33 @@ pub enum Command {
         #[arg(long, default_value = "test_data/examples")]
         out: PathBuf,
     },
+}
+
+/// Arguments of `uniphys export`.
+#[derive(Debug, clap::Args)]
+pub struct ExportArgs {
+    /// A folder `uniphys run` wrote (or a dataset entry of the same layout).
+    pub result: PathBuf,
+    /// The files to write.
+    #[arg(long, value_enum, default_value_t = ExportFormat::All)]
+    pub format: ExportFormat,
+    /// Where to write them (created if missing); the result folder itself when not given. Files
+    /// of the chosen format are replaced, others left as they are.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// What `uniphys export` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ExportFormat {
+    /// `model.urdf` with its link meshes and textures.
+    Urdf,
+    /// `model.xml` (MJCF) with its link meshes and textures.
+    Mjcf,
+    /// `model.usda` with the textures it reads (its meshes are inside the stage).
+    Usd,
+    /// Every file of the export: the three models, meshes, parts, record, annotations and report.
+    All,
 }
 
 /// Tenant actions.

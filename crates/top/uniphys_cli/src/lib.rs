@@ -1,6 +1,8 @@
 //! The `uniphys` command line: argument parsing and the subcommands.
 //!
 //! - `uniphys run <asset> --out <dir>`: the whole pipeline on one asset, no servers;
+//! - `uniphys export <result> [--format urdf|mjcf|usd|all] [--out <dir>]`: an earlier result
+//!   exported again from its own files;
 //! - `uniphys measure <mesh>`: exact and voxel mass properties per part, as JSON;
 //! - `uniphys points <asset> --out <dir>`: UniPhysGen point clouds (npz) and model frame;
 //! - `uniphys eval --pred <record>... --gt <urdf|record|entity>...`: the paper's metrics;
@@ -11,6 +13,7 @@
 
 mod args;
 mod eval_cmd;
+mod export_cmd;
 mod lvlm_args;
 mod measure_cmd;
 mod out_dir;
@@ -21,7 +24,9 @@ mod run_cmd;
 pub mod service;
 mod stage_run_cmd;
 
-pub use args::{Cli, Command, EvalArgs, StageAction, StageRunArgs, TenantAction};
+pub use args::{
+    Cli, Command, EvalArgs, ExportArgs, ExportFormat, StageAction, StageRunArgs, TenantAction,
+};
 pub use lvlm_args::LvlmArgs;
 
 use std::process::ExitCode;
@@ -45,6 +50,7 @@ pub fn error_message(error: &anyhow::Error) -> String {
 pub fn execute(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Run(args) => run_cmd::run(&args),
+        Command::Export(args) => export_cmd::export(&args),
         Command::Measure {
             mesh,
             voxel_resolution,

@@ -1,21 +1,25 @@
-//! A display colour per part from its materials and textures.
+//! A display colour per part from its materials and textures (the colour simulators draw a link
+//! in where no texture reaches).
 
-use uniphys_geometry::{MeshAsset, TriMesh};
+use crate::{SurfaceMaterial, Texture, TriMesh};
 
-/// The linear RGBA colour of the material covering most of the part's triangles, multiplied by the
-/// mean colour of its base-colour texture if it has one; mid grey without materials.
-pub(crate) fn part_color(asset: &MeshAsset, mesh: &TriMesh) -> [f32; 4] {
+/// The display colour of a part: the linear RGBA colour of the material covering most of its
+/// triangles, multiplied by the mean colour of that material's base-colour texture if it has
+/// one; mid grey without materials.
+#[must_use]
+pub fn display_rgba(
+    mesh: &TriMesh,
+    materials: &[SurfaceMaterial],
+    textures: &[Texture],
+) -> [f32; 4] {
     let Some(index) = majority_material(mesh) else {
         return [0.6, 0.6, 0.6, 1.0];
     };
-    let Some(material) = asset.materials.get(index as usize) else {
+    let Some(material) = materials.get(index as usize) else {
         return [0.6, 0.6, 0.6, 1.0];
     };
     let mut rgba = material.base_color_rgba;
-    if let Some(texture) = material
-        .base_color_texture
-        .and_then(|t| asset.textures.get(t))
-    {
+    if let Some(texture) = material.base_color_texture.and_then(|t| textures.get(t)) {
         let pixels = texture.rgba8.chunks_exact(4);
         let n = pixels.len().max(1) as f32;
         let mut sum = [0.0f32; 3];
@@ -32,7 +36,8 @@ pub(crate) fn part_color(asset: &MeshAsset, mesh: &TriMesh) -> [f32; 4] {
 }
 
 /// Material indices of the part, most triangles first (ties: lower index first).
-pub(crate) fn materials_by_coverage(mesh: &TriMesh) -> Vec<u32> {
+#[must_use]
+pub fn materials_by_coverage(mesh: &TriMesh) -> Vec<u32> {
     let Some(materials) = &mesh.face_materials else {
         return Vec::new();
     };
