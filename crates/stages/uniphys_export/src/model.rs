@@ -80,17 +80,9 @@ impl<'a> Model<'a> {
         let index_of = |id: PartId| record.parts.iter().position(|p| p.id == id);
         let root = index_of(record.root)
             .ok_or_else(|| ExportError::InputMismatch("root is not a part".into()))?;
-        let joint_of_child =
-            |i: usize| record.joints.iter().find(|j| j.child == record.parts[i].id);
         let mut links = Vec::with_capacity(n);
         for (i, part) in record.parts.iter().enumerate() {
-            let anchor = match joint_of_child(i) {
-                None => DVec3::ZERO,
-                Some(j) if j.kind == JointKind::Fixed => {
-                    DVec3::from_array(part.mass.com_in_object_m)
-                }
-                Some(j) => DVec3::from_array(j.pivot_in_object_m),
-            };
+            let anchor = link_anchor(record, i);
             let com = DVec3::from_array(part.mass.com_in_object_m);
             // A zero-thickness part is a lamina (A + B = C exactly): keep it off the bound.
             let inertia = with_triangle_margin(
@@ -163,6 +155,17 @@ impl<'a> Model<'a> {
     /// Position of the child link frame in the parent link frame.
     pub(crate) fn joint_origin(&self, joint: &Joint) -> DVec3 {
         self.link(joint.child).anchor - self.link(joint.parent).anchor
+    }
+}
+
+/// The origin of part `index`'s link frame in the object frame: the object origin for the root,
+/// the joint pivot for a jointed part, the centre of mass for a part fixed to another.
+pub(crate) fn link_anchor(record: &AssetRecord, index: usize) -> DVec3 {
+    let part = &record.parts[index];
+    match record.joints.iter().find(|j| j.child == part.id) {
+        None => DVec3::ZERO,
+        Some(j) if j.kind == JointKind::Fixed => DVec3::from_array(part.mass.com_in_object_m),
+        Some(j) => DVec3::from_array(j.pivot_in_object_m),
     }
 }
 

@@ -12,10 +12,10 @@ use std::collections::BTreeMap;
 
 use serde_json::Value;
 use uniphys_geometry::{DVec3, SurfaceMaterial, Texture, TriMesh, display_rgba};
-use uniphys_types::{AssetRecord, JointKind, PartId, VerificationReport};
+use uniphys_types::{AssetRecord, PartId, VerificationReport};
 
 use crate::checks::EXPORT_SECTION;
-use crate::model::TOUCH_AT_REST;
+use crate::model::{TOUCH_AT_REST, link_anchor};
 use crate::{ExportError, ExportInput, ExportResult, MESH_DIR};
 
 /// Everything [`crate::export`] needs, read back from an export's files.
@@ -158,16 +158,6 @@ fn dense<T>(mut map: BTreeMap<usize, T>, placeholder: impl Fn(usize) -> T) -> Ve
     (0..len)
         .map(|i| map.remove(&i).unwrap_or_else(|| placeholder(i)))
         .collect()
-}
-
-/// The origin of part `index`'s link frame in the object frame, as the export placed it.
-fn link_anchor(record: &AssetRecord, index: usize) -> DVec3 {
-    let part = &record.parts[index];
-    match record.joints.iter().find(|j| j.child == part.id) {
-        None => DVec3::ZERO,
-        Some(j) if j.kind == JointKind::Fixed => DVec3::from_array(part.mass.com_in_object_m),
-        Some(j) => DVec3::from_array(j.pivot_in_object_m),
-    }
 }
 
 /// The materials of a part's MTL, by their index in the asset (the `m<i>_` of their names);
