@@ -1,6 +1,7 @@
 """Our exports in Genesis (issue 21): the example assets and the shared PartNet-Mobility objects as
-shipped (true joints), through `uniphys run`; then Genesis (genesis-world from PyPI, on its CPU
-backend: no GPU here) loads the MJCF, or the URDF with the root fixed, and for each object:
+shipped (true joints), through `uniphys run` (bench/sim_objects.py); then Genesis (genesis-world
+from PyPI, on its CPU backend: no GPU here) loads the MJCF, or the URDF with the root fixed, and
+for each object:
 
 - its degrees of freedom against the record's movable joints (one each);
 - 1 s at rest: every joint speed under 50 rad/s or m/s and every position finite;
@@ -14,49 +15,24 @@ object and a summary. Usage, in a venv with genesis-world and torch (scripts/ben
 """
 
 import argparse
-import json
-import os
-import subprocess
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
+from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, drive_stiffness, inputs,
+                         limited_joints, movable_dofs, moving_mass_kg, print_table, run_uniphys)
+
 DT_SECS = 0.002
 REST_SECS = 1.0
 DRIVE_SECS = 1.0
-REACH_TOLERANCE = 0.05  # share of a joint's range a driven joint may stop short by
-MAX_SPEED = 50.0
-# Position control of a driven joint: stiff enough to carry a part of a few kilograms against
-# gravity to its limit within the drive time, and damped.
-KP = 2000.0
-KV = 100.0
+KP_MIN = 2000.0
+KV_MIN = 100.0
 FORCE_MAX = 1000.0
 
 
-def inputs(data: Path, only):
-    found = [(p.stem, p) for p in sorted((REPO / "test_data" / "examples").glob("*.glb"))]
-    found += [(d.name, d) for d in sorted(data.iterdir()) if (d / "mobility.urdf").is_file()]
-    return [(n, p) for n, p in found if not only or any(o in n for o in only)]
-
-
-def movable_dofs(record) -> int:
-    return sum(1 for j in record["joints"] if j["kind"] in ("revolute", "prismatic", "continuous"))
-
-
-def moving_mass_kg(record, child) -> float:
-    """Mass of part `child` and every part jointed below it."""
-    mass = {p["id"]: p["mass"]["mass_kg"]["value"] for p in record["parts"]}
-    below = [child]
-    for part in below:
-        below += [j["child"] for j in record["joints"] if j["parent"] == part]
-    return sum(mass.get(p, 0.0) for p in below)
-
-
-def check(gs, out: Path, fmt: str):
-    record = json.loads((out / "record.json").read_text())
+def check(gs, out: Path, record, fmt: str):
     scene = gs.Scene(show_viewer=False, sim_options=gs.options.SimOptions(dt=DT_SECS))
     if fmt == "mjcf":
         entity = scene.add_entity(gs.morphs.MJCF(file=str(out / "model.xml")))
@@ -74,75 +50,60 @@ def check(gs, out: Path, fmt: str):
         fastest = max(fastest, float(speed.max()) if speed.size else 0.0)
     if not np.isfinite(entity.get_qpos().cpu().numpy()).all() or fastest > MAX_SPEED:
         problems.append(f"not at rest (fastest joint {fastest:.3g})")
-    limited = [j for j in record["joints"] if j["kind"] in ("revolute", "prismatic") and j.get("limits")]
+    limited = limited_joints(record)
     reached = 0
-    names = {j.name: j for j in entity.joints}
+    by_name = {j.name: j for j in entity.joints}
     for joint in limited:
-        gj = names.get(joint["name"])
-        if gj is None:
+        found = by_name.get(joint["name"])
+        if found is None:
             problems.append(f"joint {joint['name']} missing")
             continue
-        dof = gj.dofs_idx_local[0]
+        dof = found.dofs_idx_local[0]
         lower, upper = joint["limits"]["lower"], joint["limits"]["upper"]
         span = max(upper - lower, 1e-9)
-        ok = True
-        # Stiff enough that the moving parts' weight (at a lever of 1 m for a turn) sags the
-        # joint by a twentieth of the tolerance, and critically damped for that mass.
         mass_kg = moving_mass_kg(record, joint["child"])
-        kp = max(KP, 20.0 * mass_kg * 9.81 / (REACH_TOLERANCE * span))
-        kv = max(KV, 2.0 * np.sqrt(kp * mass_kg))
+        kp = drive_stiffness(mass_kg, span, KP_MIN)
         entity.set_dofs_kp(np.array([kp]), [dof])
-        entity.set_dofs_kv(np.array([kv]), [dof])
+        entity.set_dofs_kv(np.array([max(KV_MIN, 2.0 * np.sqrt(kp * mass_kg))]), [dof])
         entity.set_dofs_force_range(np.array([-FORCE_MAX]), np.array([FORCE_MAX]), [dof])
+        ok = True
         for target in (lower, upper):
             entity.control_dofs_position(np.array([target]), [dof])
             for _ in range(int(DRIVE_SECS / DT_SECS)):
                 scene.step()
             at = float(entity.get_dofs_position([dof]).cpu().numpy()[0])
-            ok &= abs(at - target) <= REACH_TOLERANCE * span
             if abs(at - target) > REACH_TOLERANCE * span:
+                ok = False
                 problems.append(f"{joint['name']} at {at:.3g} driven to {target:.3g}")
         reached += ok
-    if reached < len(limited):
-        problems.append(f"{len(limited) - reached} of {len(limited)} limited joints short of a limit")
-    return entity.n_dofs, want, reached, len(limited), problems
+    return f"{entity.n_dofs} / {want}", f"{reached} / {len(limited)}", problems
 
 
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--format", choices=["mjcf", "urdf"], default="mjcf")
-    parser.add_argument("--data", type=Path, default=REPO.parent / "shared" / "data" / "partnet-mobility")
+    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
     parser.add_argument("--only", nargs="*")
     args = parser.parse_args()
-    binary = os.environ.get("UNIPHYS_BIN", str(REPO / "target" / "release" / "uniphys"))
     import genesis as gs
 
     gs.init(backend=gs.cpu, logging_level="warning")
-    rows, failed = [], 0
+    rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for name, source in inputs(args.data, args.only):
             out = Path(scratch) / name
-            run = subprocess.run([binary, "run", str(source), "--out", str(out), "--force"],
-                                 capture_output=True, text=True, timeout=1200)
-            if run.returncode not in (0, 1) or not (out / "record.json").is_file():
-                rows.append((name, "-", "-", "-", 0.0, f"uniphys run failed: {run.stderr.strip()[-200:]}"))
-                failed += 1
-                continue
+            record, error = run_uniphys(source, out)
             started = time.time()
-            try:
-                dofs, want, reached, limited, problems = check(gs, out, args.format)
-            except Exception as error:  # a loader error is a finding, not the end of the table
-                dofs, want, reached, limited, problems = "-", "-", 0, "-", [f"{type(error).__name__}: {error}"[:200]]
-            failed += bool(problems)
-            rows.append((name, f"{dofs} / {want}", f"{reached} / {limited}", "", time.time() - started,
-                         "; ".join(problems) or "ok"))
+            if record is None:
+                dofs, reached, problems = "-", "-", [error]
+            else:
+                try:
+                    dofs, reached, problems = check(gs, out, record, args.format)
+                except Exception as failure:  # a loader error is a finding, not the end of the table
+                    dofs, reached, problems = "-", "-", [f"{type(failure).__name__}: {failure}"[:200]]
+            rows.append((name, dofs, reached, time.time() - started, "; ".join(problems) or "ok"))
             print(f"genesis_check: {name}: {rows[-1][-1]}", flush=True)
-    print(f"\n### Genesis ({args.format.upper()}, CPU backend)\n")
-    print("| object | dofs / movable joints | limited joints reaching both limits | s | outcome |")
-    print("|---|---:|---:|---:|---|")
-    for name, dofs, reached, _, secs, outcome in rows:
-        print(f"| {name} | {dofs} | {reached} | {secs:.1f} | {outcome} |")
-    print(f"\n{len(rows) - failed} of {len(rows)} objects load, rest and reach their limits in Genesis.")
+    print_table(f"Genesis ({args.format.upper()}, CPU backend)", rows, "Genesis")
 
 
 if __name__ == "__main__":
