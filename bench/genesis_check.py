@@ -15,14 +15,12 @@ object and a summary. Usage, in a venv with genesis-world and torch (scripts/ben
 """
 
 import argparse
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
-from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, drive_stiffness, inputs,
-                         limited_joints, movable_dofs, moving_mass_kg, print_table, run_uniphys)
+from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, check_each, drive_stiffness,
+                         limited_joints, movable_dofs, moving_mass_kg, print_table)
 
 DT_SECS = 0.002
 REST_SECS = 1.0
@@ -88,22 +86,11 @@ def main():
     import genesis as gs
 
     gs.init(backend=gs.cpu, logging_level="warning")
-    rows = []
-    with tempfile.TemporaryDirectory() as scratch:
-        for name, source in inputs(args.data, args.only):
-            out = Path(scratch) / name
-            record, error = run_uniphys(source, out)
-            started = time.time()
-            if record is None:
-                dofs, reached, problems = "-", "-", [error]
-            else:
-                try:
-                    dofs, reached, problems = check(gs, out, record, args.format)
-                except Exception as failure:  # a loader error is a finding, not the end of the table
-                    dofs, reached, problems = "-", "-", [f"{type(failure).__name__}: {failure}"[:200]]
-            rows.append((name, dofs, reached, time.time() - started, "; ".join(problems) or "ok"))
-            print(f"genesis_check: {name}: {rows[-1][-1]}", flush=True)
-    print_table(f"Genesis ({args.format.upper()}, CPU backend)", rows, "Genesis")
+    rows = check_each(args.data, args.only,
+                      lambda out, record: check(gs, out, record, args.format), "genesis_check")
+    print_table(f"Genesis ({args.format.upper()}, CPU backend)",
+                ("dofs / movable joints", "limited joints reaching both limits"), rows,
+                "objects load, rest and reach their limits in Genesis")
 
 
 if __name__ == "__main__":

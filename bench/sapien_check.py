@@ -12,15 +12,13 @@ Usage: .venv/bin/python bench/sapien_check.py [--data ../shared/data/partnet-mob
 
 import argparse
 import re
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 import sapien
 
-from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, drive_stiffness, inputs,
-                         limited_joints, movable_dofs, moving_mass_kg, print_table, run_uniphys)
+from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, check_each, drive_stiffness,
+                         limited_joints, movable_dofs, moving_mass_kg, print_table)
 
 STEP_S = 1.0 / 240.0
 REST_SECS = 2.0
@@ -82,22 +80,9 @@ def main():
     parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
     parser.add_argument("--only", nargs="*")
     args = parser.parse_args()
-    rows = []
-    with tempfile.TemporaryDirectory() as scratch:
-        for name, source in inputs(args.data, args.only):
-            out = Path(scratch) / name
-            record, error = run_uniphys(source, out)
-            started = time.time()
-            if record is None:
-                dofs, reached, problems = "-", "-", [error]
-            else:
-                try:
-                    dofs, reached, problems = check(out, record)
-                except Exception as failure:  # a loader error is a finding, not the end of the table
-                    dofs, reached, problems = "-", "-", [f"{type(failure).__name__}: {failure}"[:200]]
-            rows.append((name, dofs, reached, time.time() - started, "; ".join(problems) or "ok"))
-            print(f"sapien_check: {name}: {rows[-1][-1]}", flush=True)
-    print_table("SAPIEN (URDF, PhysX CPU)", rows, "SAPIEN")
+    rows = check_each(args.data, args.only, check, "sapien_check")
+    print_table("SAPIEN (URDF, PhysX CPU)", ("dofs / movable joints", "limited joints reaching both limits"),
+                rows, "objects load, rest and reach their limits in SAPIEN")
 
 
 if __name__ == "__main__":

@@ -6,6 +6,8 @@ the table."""
 import json
 import os
 import subprocess
+import tempfile
+import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -54,12 +56,34 @@ def drive_stiffness(mass_kg: float, span: float, floor: float) -> float:
     return max(floor, 20.0 * mass_kg * 9.81 / (REACH_TOLERANCE * max(span, 1e-9)))
 
 
-def print_table(title: str, rows, simulator: str):
-    """Rows of (name, dofs, reached, seconds, outcome)."""
+def check_each(data: Path, only, check, tag: str):
+    """Rows of (name, two counts, seconds, outcome): `check(out, record)` on each object's export,
+    returning its two counts and its problems; a failed run or a loader's error is a finding of its
+    row, not the end of the table."""
+    rows = []
+    with tempfile.TemporaryDirectory() as scratch:
+        for name, source in inputs(data, only):
+            out = Path(scratch) / name
+            record, error = run_uniphys(source, out)
+            started = time.time()
+            if record is None:
+                first, second, problems = "-", "-", [error]
+            else:
+                try:
+                    first, second, problems = check(out, record)
+                except Exception as failure:
+                    first, second, problems = "-", "-", [f"{type(failure).__name__}: {failure}"[:200]]
+            rows.append((name, first, second, time.time() - started, "; ".join(problems[:3]) or "ok"))
+            print(f"{tag}: {name}: {rows[-1][-1]}", flush=True)
+    return rows
+
+
+def print_table(title: str, columns, rows, verdict: str):
+    """Rows of (name, two counts, seconds, outcome) under `columns` (the counts' headings)."""
     print(f"\n### {title}\n")
-    print("| object | dofs / movable joints | limited joints reaching both limits | s | outcome |")
+    print(f"| object | {columns[0]} | {columns[1]} | s | outcome |")
     print("|---|---:|---:|---:|---|")
-    for name, dofs, reached, secs, outcome in rows:
-        print(f"| {name} | {dofs} | {reached} | {secs:.1f} | {outcome} |")
+    for name, first, second, secs, outcome in rows:
+        print(f"| {name} | {first} | {second} | {secs:.1f} | {outcome} |")
     good = sum(1 for r in rows if r[-1] == "ok")
-    print(f"\n{good} of {len(rows)} objects load, rest and reach their limits in {simulator}.")
+    print(f"\n{good} of {len(rows)} {verdict}.")

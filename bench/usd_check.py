@@ -11,13 +11,11 @@ Usage: .venv/bin/python bench/usd_check.py [--data ../shared/data/partnet-mobili
 
 import argparse
 import math
-import tempfile
-import time
 from pathlib import Path
 
 from pxr import Usd, UsdPhysics, UsdValidation
 
-from sim_objects import DEFAULT_DATA, inputs, movable_dofs, run_uniphys
+from sim_objects import DEFAULT_DATA, check_each, movable_dofs, print_table
 
 VALIDATORS = ("usdPhysicsValidators:", "usdShadeValidators:", "usdGeomValidators:", "usdValidation:")
 
@@ -30,7 +28,8 @@ def validators():
 
 def check(out: Path, record, chosen):
     stage = Usd.Stage.Open(str(out / "model.usda"))
-    problems = [f"{e.GetName()}: {e.GetMessage()}"[:160] for e in UsdValidation.ValidationContext(chosen).Validate(stage)]
+    errors = UsdValidation.ValidationContext(chosen).Validate(stage)
+    problems = [f"{e.GetName()}: {e.GetMessage()}"[:160] for e in errors]
     bodies = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.RigidBodyAPI)]
     if len(bodies) != len(record["parts"]):
         problems.append(f"{len(bodies)} bodies for {len(record['parts'])} parts")
@@ -71,25 +70,9 @@ def main():
     parser.add_argument("--only", nargs="*")
     args = parser.parse_args()
     chosen = validators()
-    rows = []
-    with tempfile.TemporaryDirectory() as scratch:
-        for name, source in inputs(args.data, args.only):
-            out = Path(scratch) / name
-            record, error = run_uniphys(source, out)
-            started = time.time()
-            if record is None:
-                bodies, joints, problems = "-", "-", [error]
-            else:
-                bodies, joints, problems = check(out, record, chosen)
-            rows.append((name, bodies, joints, time.time() - started, "; ".join(problems[:3]) or "ok"))
-            print(f"usd_check: {name}: {rows[-1][-1]}", flush=True)
-    print("\n### USD (usd-core validators and the record)\n")
-    print("| object | bodies / parts | movable joints / record's | s | outcome |")
-    print("|---|---:|---:|---:|---|")
-    for name, bodies, joints, secs, outcome in rows:
-        print(f"| {name} | {bodies} | {joints} | {secs:.1f} | {outcome} |")
-    good = sum(1 for r in rows if r[-1] == "ok")
-    print(f"\n{good} of {len(rows)} stages validate and hold the record's articulation.")
+    rows = check_each(args.data, args.only, lambda out, record: check(out, record, chosen), "usd_check")
+    print_table("USD (usd-core validators and the record)", ("bodies / parts", "movable joints / record's"),
+                rows, "stages validate and hold the record's articulation")
 
 
 if __name__ == "__main__":
