@@ -9,8 +9,8 @@ use std::fmt::Write as _;
 use uniphys_geometry::{SurfaceMaterial, Texture, TriMesh};
 use uniphys_types::PartId;
 
+use crate::obj_writer::{face_line, mtl_material, texcoord_line, vertex_line};
 use crate::visuals::texture_file;
-use crate::xml::{coord, short_f32};
 use crate::{Artifact, ExportError, ExportResult};
 
 /// Name of the material written for faces without one.
@@ -34,6 +34,14 @@ fn material_name(index: Option<u32>, materials: &[SurfaceMaterial]) -> String {
     }
 }
 
+/// The material index and name a [`material_name`] stands for (`m3_oak` is material 3, `oak`);
+/// `None` for the default material or a name that is not one.
+pub(crate) fn material_of_name(written: &str) -> Option<(u32, String)> {
+    let rest = written.strip_prefix('m')?;
+    let (digits, name) = rest.split_once('_').unwrap_or((rest, ""));
+    Some((digits.parse().ok()?, name.to_owned()))
+}
+
 /// OBJ and MTL of one part.
 pub(crate) fn part_files(
     id: PartId,
@@ -44,13 +52,10 @@ pub(crate) fn part_files(
     let mut obj = String::with_capacity(mesh.positions.len() * 48 + mesh.triangles.len() * 32);
     let _ = writeln!(obj, "# written by uniphys\nmtllib {id}.mtl");
     for p in &mesh.positions {
-        let _ = writeln!(obj, "v {} {} {}", coord(p.x), coord(p.y), coord(p.z));
+        vertex_line(&mut obj, *p);
     }
-    if let Some(uvs) = &mesh.uvs {
-        // glTF's v runs down the image, OBJ's up.
-        for [u, v] in uvs {
-            let _ = writeln!(obj, "vt {} {}", short_f32(*u), short_f32(1.0 - *v));
-        }
+    for uv in mesh.uvs.iter().flatten() {
+        texcoord_line(&mut obj, *uv);
     }
     let face_material = |f: usize| mesh.face_materials.as_ref().map(|m| m[f]);
     let mut current: Option<Option<u32>> = None;
@@ -64,12 +69,7 @@ pub(crate) fn part_files(
                 used.push(m);
             }
         }
-        let [a, b, c] = t.map(|v| v + 1);
-        if mesh.uvs.is_some() {
-            let _ = writeln!(obj, "f {a}/{a} {b}/{b} {c}/{c}");
-        } else {
-            let _ = writeln!(obj, "f {a} {b} {c}");
-        }
+        face_line(&mut obj, *t, mesh.uvs.is_some());
     }
     let mut mtl = String::from("# written by uniphys\n");
     for m in used {
@@ -77,15 +77,8 @@ pub(crate) fn part_files(
             Some(material) => (material.base_color_rgba, material.base_color_texture),
             None => (fallback_rgba, None),
         };
-        let [r, g, b, a] = rgba.map(short_f32);
-        let _ = writeln!(
-            mtl,
-            "newmtl {}\nKd {r} {g} {b}\nd {a}",
-            material_name(m, materials)
-        );
-        if let Some(t) = texture.filter(|_| mesh.uvs.is_some()) {
-            let _ = writeln!(mtl, "map_Kd {}", texture_file(t));
-        }
+        let texture = texture.filter(|_| mesh.uvs.is_some());
+        mtl_material(&mut mtl, &material_name(m, materials), rgba, texture);
     }
     vec![
         Artifact::new(format!("parts/{id}.obj"), obj.into_bytes()),
@@ -209,6 +202,19 @@ mod tests {
             .unwrap()
             .to_rgba8();
         assert_eq!(decoded.into_raw(), textures[0].rgba8);
+    }
+
+    #[test]
+    fn a_written_material_name_reads_back_as_its_index_and_name() {
+        let (_, materials, _) = textured_quad();
+        let written: Vec<String> = (0..2).map(|i| material_name(Some(i), &materials)).collect();
+        assert_eq!(written, ["m0_wood_oak", "m1"]);
+        assert_eq!(
+            material_of_name(&written[0]),
+            Some((0, "wood_oak".to_owned()))
+        );
+        assert_eq!(material_of_name(&written[1]), Some((1, String::new())));
+        assert_eq!(material_of_name("default"), None);
     }
 
     #[test]

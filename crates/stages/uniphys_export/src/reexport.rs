@@ -16,6 +16,8 @@ use uniphys_types::{AssetRecord, PartId, VerificationReport};
 
 use crate::checks::EXPORT_SECTION;
 use crate::model::{TOUCH_AT_REST, link_anchor};
+use crate::part_files::material_of_name;
+use crate::visuals::{texture_file, texture_of_file};
 use crate::{ExportError, ExportInput, ExportResult, MESH_DIR};
 
 /// Everything [`crate::export`] needs, read back from an export's files.
@@ -64,7 +66,7 @@ impl Exported {
                 if let Some(t) = material.base_color_texture
                     && !textures.contains_key(&t)
                 {
-                    let path = format!("parts/{}", crate::visuals::texture_file(t));
+                    let path = format!("parts/{}", texture_file(t));
                     textures.insert(t, decode_png(&path, &need(&path)?)?);
                 }
                 materials
@@ -180,12 +182,9 @@ fn parse_mtl(path: &str, text: &str) -> ExportResult<Mtl> {
                     .next()
                     .ok_or_else(|| bad("newmtl without a name"))?
                     .to_owned();
-                let index = name
-                    .strip_prefix('m')
-                    .and_then(|rest| rest.split('_').next())
-                    .and_then(|digits| digits.parse::<u32>().ok());
-                if let Some(i) = index {
-                    let clean = name.split_once('_').map_or("", |(_, c)| c).to_owned();
+                let parsed = material_of_name(&name);
+                let index = parsed.as_ref().map(|(i, _)| *i);
+                if let Some((i, clean)) = parsed {
                     materials.insert(
                         i,
                         SurfaceMaterial {
@@ -221,10 +220,7 @@ fn parse_mtl(path: &str, text: &str) -> ExportResult<Mtl> {
                     }
                     _ => {
                         let file = values.first().ok_or_else(|| bad("map_Kd without a file"))?;
-                        let t = file
-                            .strip_prefix("texture_")
-                            .and_then(|rest| rest.strip_suffix(".png"))
-                            .and_then(|digits| digits.parse().ok())
+                        let t = texture_of_file(file)
                             .ok_or_else(|| bad("a texture not named texture_<t>.png"))?;
                         material.base_color_texture = Some(t);
                     }

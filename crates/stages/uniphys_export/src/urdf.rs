@@ -8,7 +8,7 @@
 //! sheet) with "mesh volume is too small", and the importer has no way to mark a mesh as a shell.
 //! The collision hulls always have volume; `model.xml` carries both, visuals as shells.
 
-use uniphys_types::{Joint, JointKind};
+use uniphys_types::Joint;
 
 use crate::MESH_DIR;
 use crate::model::{Link, Model};
@@ -117,15 +117,10 @@ fn mesh_geometry(stem: &str) -> Element {
 }
 
 fn joint_element(model: &Model<'_>, joint: &Joint) -> Element {
-    let kind = match joint.kind {
-        JointKind::Revolute => "revolute",
-        JointKind::Continuous => "continuous",
-        JointKind::Prismatic => "prismatic",
-        JointKind::Fixed => "fixed",
-    };
+    // URDF names its joint types as the record does.
     let mut el = Element::new("joint")
         .attr("name", joint.name.clone())
-        .attr("type", kind)
+        .attr("type", joint.kind.as_str())
         .child(Element::new("parent").attr("link", model.link(joint.parent).name.clone()))
         .child(Element::new("child").attr("link", model.link(joint.child).name.clone()))
         .child(

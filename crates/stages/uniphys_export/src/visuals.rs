@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use uniphys_geometry::{DVec3, SurfaceMaterial, TriMesh};
 
-use crate::xml::{coord, short_f32};
+use crate::obj_writer::{face_line, mtl_material, texcoord_line, vertex_line};
 
 /// A piece smaller than this (vertices) is drawn with the largest piece: MuJoCo refuses meshes
 /// with fewer than four vertices.
@@ -33,6 +33,14 @@ pub(crate) struct Visual {
 /// File name of texture `index` beside the link meshes and in `parts/`.
 pub(crate) fn texture_file(index: usize) -> String {
     format!("texture_{index}.png")
+}
+
+/// The texture index a [`texture_file`] name stands for.
+pub(crate) fn texture_of_file(file: &str) -> Option<usize> {
+    file.strip_prefix("texture_")?
+        .strip_suffix(".png")?
+        .parse()
+        .ok()
 }
 
 /// The visuals of the part `stem_prefix` (`part_<id>`, link `link_name`): one per textured
@@ -93,12 +101,20 @@ pub(crate) fn link_visuals(
     fold_small_pieces(mesh, visuals)
 }
 
-/// Vertices the faces use.
-fn vertex_count(mesh: &TriMesh, faces: &[usize]) -> usize {
-    let mut used: Vec<u32> = faces.iter().flat_map(|&f| mesh.triangles[f]).collect();
-    used.sort_unstable();
-    used.dedup();
-    used.len()
+/// The vertices `faces` use, in the order they first do, and each mesh vertex's new index among
+/// them (`u32::MAX` for those not used).
+fn used_vertices(mesh: &TriMesh, faces: &[usize]) -> (Vec<u32>, Vec<usize>) {
+    let mut index = vec![u32::MAX; mesh.positions.len()];
+    let mut order = Vec::new();
+    for &f in faces {
+        for v in mesh.triangles[f] {
+            if index[v as usize] == u32::MAX {
+                index[v as usize] = u32::try_from(order.len()).unwrap_or(u32::MAX);
+                order.push(v as usize);
+            }
+        }
+    }
+    (index, order)
 }
 
 /// Pieces under [`PIECE_VERTICES_MIN`] vertices join the piece with the most faces.
@@ -108,7 +124,7 @@ fn fold_small_pieces(mesh: &TriMesh, mut visuals: Vec<Visual>) -> Vec<Visual> {
     }
     let (small, mut kept): (Vec<Visual>, Vec<Visual>) = visuals
         .drain(..)
-        .partition(|v| vertex_count(mesh, &v.faces) < PIECE_VERTICES_MIN);
+        .partition(|v| used_vertices(mesh, &v.faces).1.len() < PIECE_VERTICES_MIN);
     if kept.is_empty() {
         // Every piece is tiny: one piece, drawn as the first was.
         let mut all = small;
@@ -138,27 +154,17 @@ pub(crate) fn visual_files(
 ) -> (Vec<u8>, Option<Vec<u8>>) {
     // A piece holding every face keeps the mesh's vertices as they are; another keeps those its
     // faces use, in the order they first do.
-    let whole = visual.faces.len() == mesh.triangles.len();
-    let mut index: Vec<u32> = if whole {
-        (0..mesh.positions.len())
-            .map(|v| u32::try_from(v).unwrap_or(u32::MAX))
-            .collect()
+    let (index, order) = if visual.faces.len() == mesh.triangles.len() {
+        let all = 0..mesh.positions.len();
+        (
+            all.clone()
+                .map(|v| u32::try_from(v).unwrap_or(u32::MAX))
+                .collect(),
+            all.collect(),
+        )
     } else {
-        vec![u32::MAX; mesh.positions.len()]
+        used_vertices(mesh, &visual.faces)
     };
-    let mut order: Vec<usize> = if whole {
-        (0..mesh.positions.len()).collect()
-    } else {
-        Vec::new()
-    };
-    for &f in visual.faces.iter().filter(|_| !whole) {
-        for v in mesh.triangles[f] {
-            if index[v as usize] == u32::MAX {
-                index[v as usize] = u32::try_from(order.len()).unwrap_or(u32::MAX);
-                order.push(v as usize);
-            }
-        }
-    }
     let uvs = mesh.uvs.as_ref().filter(|_| visual.texture.is_some());
     let mut obj = String::with_capacity(order.len() * 48 + visual.faces.len() * 32);
     obj.push_str("# written by uniphys\n");
@@ -170,32 +176,24 @@ pub(crate) fn visual_files(
         );
     }
     for &v in &order {
-        let q = mesh.positions[v] - origin;
-        let _ = writeln!(obj, "v {} {} {}", coord(q.x), coord(q.y), coord(q.z));
+        vertex_line(&mut obj, mesh.positions[v] - origin);
     }
     if let Some(uvs) = uvs {
-        // glTF's v runs down the image, OBJ's up.
         for &v in &order {
-            let [u, w] = uvs[v];
-            let _ = writeln!(obj, "vt {} {}", short_f32(u), short_f32(1.0 - w));
+            texcoord_line(&mut obj, uvs[v]);
         }
     }
     for &f in &visual.faces {
-        let [a, b, c] = mesh.triangles[f].map(|v| index[v as usize] + 1);
-        if uvs.is_some() {
-            let _ = writeln!(obj, "f {a}/{a} {b}/{b} {c}/{c}");
-        } else {
-            let _ = writeln!(obj, "f {a} {b} {c}");
-        }
+        face_line(
+            &mut obj,
+            mesh.triangles[f].map(|v| index[v as usize]),
+            uvs.is_some(),
+        );
     }
     let mtl = visual.texture.filter(|_| uvs.is_some()).map(|t| {
-        let [r, g, b, a] = visual.rgba.map(short_f32);
-        format!(
-            "# written by uniphys\nnewmtl {}\nKd {r} {g} {b}\nd {a}\nmap_Kd {}\n",
-            visual.material,
-            texture_file(t)
-        )
-        .into_bytes()
+        let mut mtl = String::from("# written by uniphys\n");
+        mtl_material(&mut mtl, &visual.material, visual.rgba, Some(t));
+        mtl.into_bytes()
     });
     (obj.into_bytes(), mtl)
 }
@@ -253,6 +251,12 @@ mod tests {
         assert_eq!(visuals[1].texture, None);
         assert_eq!(visuals[1].rgba, [0.5; 4]);
         assert_eq!(visuals[1].faces, vec![2, 3]);
+    }
+
+    #[test]
+    fn a_texture_file_reads_back_as_its_index() {
+        assert_eq!(texture_of_file(&texture_file(7)), Some(7));
+        assert_eq!(texture_of_file("label.png"), None);
     }
 
     #[test]

@@ -17,15 +17,6 @@ const SWEEP_TARGET_MS: f64 = 50.0;
 
 type Results = [(String, anyhow::Result<ObjectResult>)];
 
-fn kind_name(kind: JointKind) -> &'static str {
-    match kind {
-        JointKind::Revolute => "revolute",
-        JointKind::Prismatic => "prismatic",
-        JointKind::Continuous => "continuous",
-        JointKind::Fixed => "fixed",
-    }
-}
-
 fn pct(n: usize, d: usize) -> String {
     if d == 0 {
         "-".to_owned()
@@ -48,12 +39,12 @@ pub(crate) fn report(results: &Results) -> String {
     let _ = writeln!(out, "{ok} objects judged, {} skipped\n", results.len() - ok);
     out.push_str(&true_joint_table(
         results,
-        |j| kind_name(j.kind).to_owned(),
+        |j| j.kind.as_str().to_owned(),
         "kind",
     ));
     out.push_str(&true_joint_table(
         results,
-        |j| format!("{} {}", kind_name(j.kind), j.label),
+        |j| format!("{} {}", j.kind.as_str(), j.label),
         "kind and part label",
     ));
     out.push_str(&failure_list(results));
@@ -125,7 +116,7 @@ fn failure_list(results: &Results) -> String {
             "| {name} | {} | {} | {} | {} | {:?}{} | {} |",
             o.category,
             j.joint,
-            kind_name(j.kind),
+            j.kind.as_str(),
             j.label,
             j.outcome,
             if j.corrected_wrong { " (wrong)" } else { "" },
@@ -187,7 +178,7 @@ fn pivot_table(results: &Results) -> String {
         }
         match j.nearest_pivot_model {
             Some(d) => {
-                by_kind.entry(kind_name(j.kind)).or_default().push(d);
+                by_kind.entry(j.kind.as_str()).or_default().push(d);
                 by_kind.entry("**all**").or_default().push(d);
             }
             None => missing += 1,
@@ -248,7 +239,7 @@ fn time_line(results: &Results) -> String {
 /// A joint's motion for the JSON: kind, axis, pivot and limits in the object frame.
 fn motion(joint: &Joint) -> serde_json::Value {
     json!({
-        "kind": kind_name(joint.kind),
+        "kind": JointKind::as_str(joint.kind),
         "axis": joint.axis_in_object,
         "pivot_m": joint.pivot_in_object_m,
         "limits": joint.limits.map(|l| [l.lower, l.upper]),
@@ -263,7 +254,7 @@ pub(crate) fn json(results: &Results) -> serde_json::Value {
                 "object": name,
                 "category": o.category,
                 "joint": j.joint,
-                "kind": kind_name(j.kind),
+                "kind": j.kind.as_str(),
                 "label": j.label,
                 "outcome": format!("{:?}", j.outcome),
                 "corrected_wrong": j.corrected_wrong,
