@@ -5,8 +5,8 @@ for each object:
 
 - its degrees of freedom against the record's movable joints (one each);
 - 1 s at rest: every joint speed under 50 rad/s or m/s and every position finite;
-- each limited joint driven by Genesis's position control to each of its limits for 1 s: reached
-  when within 5 % of its range.
+- each limited joint driven by Genesis's position control from rest (the others at rest and
+  undriven) to each of its limits for 1 s: reached when within 5 % of its range.
 
 Genesis compiles its kernels on first use (minutes; later scenes reuse them). Prints one row per
 object and a summary. Usage, in a venv with genesis-world and torch (scripts/bench makes one):
@@ -50,6 +50,7 @@ def check(gs, out: Path, record, fmt: str):
         problems.append(f"not at rest (fastest joint {fastest:.3g})")
     limited = limited_joints(record)
     reached = 0
+    rest = entity.get_dofs_position()
     by_name = {j.name: j for j in entity.joints}
     for joint in limited:
         found = by_name.get(joint["name"])
@@ -64,6 +65,8 @@ def check(gs, out: Path, record, fmt: str):
         entity.set_dofs_kp(np.array([kp]), [dof])
         entity.set_dofs_kv(np.array([max(KV_MIN, 2.0 * np.sqrt(kp * mass_kg))]), [dof])
         entity.set_dofs_force_range(np.array([-FORCE_MAX]), np.array([FORCE_MAX]), [dof])
+        entity.set_dofs_position(rest)
+        entity.zero_all_dofs_velocity()
         ok = True
         for target in (lower, upper):
             entity.control_dofs_position(np.array([target]), [dof])
@@ -73,6 +76,7 @@ def check(gs, out: Path, record, fmt: str):
             if abs(at - target) > REACH_TOLERANCE * span:
                 ok = False
                 problems.append(f"{joint['name']} at {at:.3g} driven to {target:.3g}")
+        entity.control_dofs_force(np.array([0.0]), [dof])
         reached += ok
     return f"{entity.n_dofs} / {want}", f"{reached} / {len(limited)}", problems
 

@@ -2,7 +2,8 @@
 system): the example assets and the shared PartNet-Mobility objects as shipped (true joints),
 through `uniphys run` (bench/sim_objects.py), then, as tests/sim/test_sapien.py does for a few:
 loaded with the root fixed (a copy without `<visual>` elements: SAPIEN builds render materials for
-visuals, which needs a GPU this machine lacks; bodies, inertia, colliders and joints are the same),
+visuals, which needs a GPU this machine lacks; bodies, inertia, colliders and joints are the same;
+`model.srdf` turns off the contacts of parts touching at rest without a joint),
 its degrees of freedom against the record's movable joints, 2 s at rest, and each limited joint
 driven from rest to each of its limits for 2 s (within 5 % of its range).
 
@@ -34,7 +35,7 @@ def check(out: Path, record):
     scene.set_timestep(STEP_S)
     loader = scene.create_urdf_loader()
     loader.fix_root_link = True
-    robot = loader.load(str(physics))
+    robot = loader.load(str(physics), srdf_file=str(out / "model.srdf"))
     want = movable_dofs(record)
     problems = []
     if robot.dof != want:

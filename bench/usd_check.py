@@ -3,13 +3,15 @@ Sim is not here): the example assets and the shared PartNet-Mobility objects as 
 joints), through `uniphys run` (bench/sim_objects.py); then `model.usda` opened, its UsdPhysics,
 shading, geometry and metadata validators run, and its rigid bodies, masses, colliders, joints and
 limits held against the record: one body per part with the record's mass (positive), a convex-hull
-collider on each, one joint per record joint between existing bodies, and ordered limits.
+collider on each, one joint per record joint between existing bodies, ordered limits, and the
+pairs `report.json` says touch at rest filtered (`PhysicsFilteredPairsAPI`).
 
 Usage: .venv/bin/python bench/usd_check.py [--data ../shared/data/partnet-mobility] [--only NAME ...]
 (UNIPHYS_BIN names the binary; default target/release/uniphys)
 """
 
 import argparse
+import json
 import math
 from pathlib import Path
 
@@ -61,6 +63,13 @@ def check(out: Path, record, chosen):
                     problems.append(f"{prim.GetName()} limits out of order")
     if movable != movable_dofs(record):
         problems.append(f"{movable} movable joints for {movable_dofs(record)}")
+    filtered = {frozenset((b.GetName(), stage.GetPrimAtPath(t).GetName()))
+                for b in bodies if b.HasAPI(UsdPhysics.FilteredPairsAPI)
+                for t in UsdPhysics.FilteredPairsAPI(b).GetFilteredPairsRel().GetTargets()}
+    touching = {frozenset(x["links"]) for x in json.loads((out / "report.json").read_text())["contact_excludes"]
+                if x["why"] == "touch at rest"}
+    if filtered != touching:
+        problems.append(f"{len(filtered)} filtered pairs for {len(touching)} touching at rest")
     return f"{len(bodies)} / {len(record['parts'])}", f"{movable} / {movable_dofs(record)}", problems
 
 

@@ -3,6 +3,7 @@
 //! | path | what |
 //! |---|---|
 //! | `model.urdf` | URDF for PyBullet, MuJoCo's importer, Isaac Sim, SAPIEN |
+//! | `model.srdf` | pairs of links whose contacts are off (jointed, or touching at rest), for loaders that read the URDF (SAPIEN) |
 //! | `model.xml` | MJCF for MuJoCo |
 //! | `model.usda` | USD stage with UsdPhysics for Isaac Sim and Isaac Lab (visuals in the link's colour, textured faces bound to a preview surface) |
 //! | `meshes/part_<id>_visual.obj` | visual mesh of each link, in the link frame; a part drawn with textures is split by material: `part_<id>_visual_m<k>.obj` with UVs and an MTL, its image as `texture_<t>.png` |
@@ -25,6 +26,7 @@ mod part_files;
 mod record;
 mod reexport;
 mod report;
+mod srdf;
 mod urdf;
 mod usd;
 mod visuals;
@@ -56,7 +58,8 @@ pub struct ExportInput<'a> {
     pub materials: &'a [SurfaceMaterial],
     /// Textures the materials refer to.
     pub textures: &'a [Texture],
-    /// Pairs of parts that touch at rest; they get MJCF contact excludes, as jointed pairs do.
+    /// Pairs of parts that touch at rest; their contacts are off (MJCF excludes, SRDF, USD filtered
+    /// pairs), as jointed pairs' are.
     pub touching_pairs: &'a [(PartId, PartId)],
     /// Checks from earlier stages, included in `report.json`.
     pub report: &'a VerificationReport,
@@ -79,6 +82,7 @@ pub fn export(input: &ExportInput<'_>) -> ExportResult<ExportOutput> {
     let record = input.record;
     let mut artifacts = vec![
         Artifact::new("model.urdf", urdf::write_urdf(&model).into_bytes()),
+        Artifact::new("model.srdf", srdf::write_srdf(&model).into_bytes()),
         Artifact::new("model.xml", mjcf::write_mjcf(&model).into_bytes()),
         Artifact::new(
             "model.usda",

@@ -15,7 +15,10 @@
 //! fixed to the world by a joint with no `body0`. Metres, kilograms and Z up are stated in the
 //! stage's metadata. A visual carries the link's display colour; the faces of a textured
 //! material are a `GeomSubset` bound to a `UsdPreviewSurface` material under `Looks` whose
-//! diffuse colour is the texture (`meshes/texture_<t>.png`, read at the mesh's `st`).
+//! diffuse colour is the texture (`meshes/texture_<t>.png`, read at the mesh's `st`). Links that
+//! touch at rest without a joint between them have their contacts filtered
+//! (`PhysicsFilteredPairsAPI`), as the MJCF excludes them; jointed bodies collide with each other
+//! only if the joint enables it, which UsdPhysics leaves off.
 
 use std::fmt::Write as _;
 
@@ -23,7 +26,7 @@ use uniphys_geometry::{DMat3, DQuat, DVec3, TriMesh, symmetric_eigen};
 use uniphys_types::{Joint, JointKind};
 
 use crate::MESH_DIR;
-use crate::model::{Link, Model, sanitize};
+use crate::model::{ExcludeReason, Link, Model, sanitize};
 use crate::visuals::{Visual, texture_file};
 use crate::xml::{coord, num, short_f32};
 
@@ -44,7 +47,13 @@ pub(crate) fn write_usda(model: &Model<'_>, visuals: &[TriMesh], hulls: &[Vec<Tr
         "def Xform \"{root}\" (\n    prepend apiSchemas = [\"PhysicsArticulationRootAPI\"]\n)\n{{"
     );
     for (i, link) in model.links.iter().enumerate() {
-        write_link(&mut s, root, link, &visuals[i], &hulls[i]);
+        let filtered: Vec<&str> = model
+            .exclude_pairs
+            .iter()
+            .filter(|&&(a, _, why)| a == i && why == ExcludeReason::TouchAtRest)
+            .map(|&(_, b, _)| model.links[b].name.as_str())
+            .collect();
+        write_link(&mut s, root, link, &visuals[i], &hulls[i], &filtered);
     }
     write_looks(&mut s, root, model);
     let root_link = &model.links[model.root];
@@ -64,14 +73,35 @@ pub(crate) fn write_usda(model: &Model<'_>, visuals: &[TriMesh], hulls: &[Vec<Tr
     s
 }
 
-/// One link: its rigid body, mass, visual and hulls, in its own frame.
-fn write_link(s: &mut String, root: &str, link: &Link, visual: &TriMesh, hulls: &[TriMesh]) {
+/// One link: its rigid body, mass, visual and hulls, in its own frame, and the links it touches at
+/// rest (`filtered`, by name), whose contacts with it are off.
+fn write_link(
+    s: &mut String,
+    root: &str,
+    link: &Link,
+    visual: &TriMesh,
+    hulls: &[TriMesh],
+    filtered: &[&str],
+) {
     let (moments, axes) = principal_inertia(link.inertia_kg_m2);
+    let filter_api = if filtered.is_empty() {
+        ""
+    } else {
+        ", \"PhysicsFilteredPairsAPI\""
+    };
     let _ = writeln!(
         s,
-        "    def Xform \"{}\" (\n        prepend apiSchemas = [\"PhysicsRigidBodyAPI\", \"PhysicsMassAPI\"]\n    )\n    {{",
+        "    def Xform \"{}\" (\n        prepend apiSchemas = [\"PhysicsRigidBodyAPI\", \"PhysicsMassAPI\"{filter_api}]\n    )\n    {{",
         link.name
     );
+    if !filtered.is_empty() {
+        let targets: Vec<String> = filtered.iter().map(|n| format!("</{root}/{n}>")).collect();
+        let _ = writeln!(
+            s,
+            "        rel physics:filteredPairs = [{}]",
+            targets.join(", ")
+        );
+    }
     let _ = writeln!(
         s,
         "        double3 xformOp:translate = {}\n        uniform token[] xformOpOrder = [\"xformOp:translate\"]",

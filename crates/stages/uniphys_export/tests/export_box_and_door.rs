@@ -282,3 +282,73 @@ fn usd_stage_places_the_door_joint_about_x_turned_onto_its_axis_with_limits_in_d
         "one hull per part"
     );
 }
+
+/// The door with a handle welded to it whose hull reaches the body at rest (as a handle by the
+/// hinge does): a pair no joint connects, whose contacts must be off in every format.
+fn run_export_with_handle() -> uniphys_export::ExportOutput {
+    let (mut record, mut meshes) = record();
+    let handle = (
+        DVec3::new(-0.28, -0.24, 0.25),
+        DVec3::new(-0.26, -0.2, 0.35),
+    );
+    record.parts.push(part(2, "handle", handle.0, handle.1));
+    meshes.push(block(handle.0, handle.1));
+    record.joints.push(Joint {
+        name: "handle_weld".into(),
+        kind: JointKind::Fixed,
+        parent: PartId(1),
+        child: PartId(2),
+        axis_in_object: [0.0, 0.0, 1.0],
+        pivot_in_object_m: [-0.27, -0.22, 0.3],
+        limits: None,
+        damping: 0.0,
+        friction: 0.0,
+        coupled_parts: vec![],
+        provenance: Provenance::rule("t"),
+    });
+    let colliders: Vec<Vec<TriMesh>> = meshes.iter().map(|m| vec![m.clone()]).collect();
+    export(&ExportInput {
+        record: &record,
+        part_meshes: &meshes,
+        colliders: &colliders,
+        part_colors: &[[0.5, 0.3, 0.1, 1.0]; 3],
+        materials: &[],
+        textures: &[],
+        touching_pairs: &[(PartId(2), PartId(0)), (PartId(0), PartId(1))],
+        report: &VerificationReport::default(),
+        notes: &[],
+    })
+    .unwrap()
+}
+
+#[test]
+fn a_pair_touching_at_rest_without_a_joint_is_off_in_the_srdf_the_usd_and_the_mjcf() {
+    let out = run_export_with_handle();
+    let srdf = text(&out, "model.srdf");
+    let pairs: Vec<&str> = srdf
+        .lines()
+        .filter(|l| l.contains("<disable_collisions"))
+        .map(str::trim)
+        .collect();
+    assert_eq!(
+        pairs,
+        [
+            r#"<disable_collisions link1="part_0_body" link2="part_1_door" reason="Adjacent"/>"#,
+            r#"<disable_collisions link1="part_0_body" link2="part_2_handle" reason="Default"/>"#,
+            r#"<disable_collisions link1="part_1_door" link2="part_2_handle" reason="Adjacent"/>"#,
+        ],
+        "{srdf}"
+    );
+    let usd = text(&out, "model.usda");
+    let body = &usd[usd.find(r#"def Xform "part_0_body""#).unwrap()..];
+    let body = &body[..body.find("xformOp:translate").unwrap()];
+    assert!(
+        body.contains(r#"["PhysicsRigidBodyAPI", "PhysicsMassAPI", "PhysicsFilteredPairsAPI"]"#)
+            && body.contains("rel physics:filteredPairs = [</box_door/part_2_handle>]"),
+        "{body}"
+    );
+    // Jointed bodies are not filtered pairs: UsdPhysics joints leave their collisions off.
+    assert_eq!(usd.matches("physics:filteredPairs").count(), 1, "{usd}");
+    let mjcf = text(&out, "model.xml");
+    assert!(mjcf.contains(r#"<exclude body1="part_0_body" body2="part_2_handle"/>"#));
+}

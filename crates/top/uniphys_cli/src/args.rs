@@ -94,13 +94,13 @@ pub struct ExportArgs {
 /// What `uniphys export` writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ExportFormat {
-    /// `model.urdf` with its link meshes and textures.
+    /// `model.urdf` with its link meshes and textures, and `model.srdf` (the contacts that are off).
     Urdf,
     /// `model.xml` (MJCF) with its link meshes and textures.
     Mjcf,
     /// `model.usda` with the textures it reads (its meshes are inside the stage).
     Usd,
-    /// Every file of the export: the three models, meshes, parts, record, annotations and report.
+    /// Every file of the export: the three models and the SRDF, meshes, parts, record, annotations and report.
     All,
 }
 

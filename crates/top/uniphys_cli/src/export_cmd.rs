@@ -45,7 +45,7 @@ fn wanted(format: ExportFormat, path: &str) -> bool {
     let in_meshes = path.starts_with(&format!("{MESH_DIR}/"));
     match format {
         ExportFormat::All => true,
-        ExportFormat::Urdf => path == "model.urdf" || in_meshes,
+        ExportFormat::Urdf => path == "model.urdf" || path == "model.srdf" || in_meshes,
         ExportFormat::Mjcf => path == "model.xml" || in_meshes,
         ExportFormat::Usd => path == "model.usda" || (in_meshes && path.ends_with(".png")),
     }

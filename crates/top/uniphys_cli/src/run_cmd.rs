@@ -112,7 +112,7 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
             record.object.dimensions_m.value[2]
         );
         println!(
-            "wrote {} files to {} in {total_ms:.0} ms (model.urdf, model.xml, model.usda, report.json, annotations/)",
+            "wrote {} files to {} in {total_ms:.0} ms (model.urdf, model.srdf, model.xml, model.usda, report.json, annotations/)",
             output.artifacts.len(),
             args.out.display()
         );

@@ -47,6 +47,7 @@ fn run_writes_the_simulation_ready_files_and_exits_zero() {
     }
     for file in [
         "model.urdf",
+        "model.srdf",
         "model.xml",
         "model.usda",
         "report.json",

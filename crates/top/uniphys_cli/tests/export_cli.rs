@@ -136,10 +136,10 @@ fn export_writes_a_result_again_from_its_own_files() {
 fn export_of_one_format_writes_its_model_and_the_files_it_reads() {
     let first = tempfile::tempdir().expect("tempdir");
     run_example("cabinet.glb", first.path());
-    for (format, model) in [
-        ("usd", "model.usda"),
-        ("urdf", "model.urdf"),
-        ("mjcf", "model.xml"),
+    for (format, models) in [
+        ("usd", &["model.usda"][..]),
+        ("urdf", &["model.urdf", "model.srdf"][..]),
+        ("mjcf", &["model.xml"][..]),
     ] {
         let out = tempfile::tempdir().expect("tempdir");
         let output = uniphys(&[
@@ -152,23 +152,25 @@ fn export_of_one_format_writes_its_model_and_the_files_it_reads() {
         ]);
         assert_ok(&output);
         let written = files(out.path());
-        assert!(
-            written.contains(&PathBuf::from(model)),
-            "{format}: {written:?}"
-        );
+        for model in models {
+            assert!(
+                written.contains(&PathBuf::from(model)),
+                "{format}: {written:?}"
+            );
+            assert_same_text(
+                Path::new(model),
+                &std::fs::read_to_string(first.path().join(model)).expect("model"),
+                &std::fs::read_to_string(out.path().join(model)).expect("model"),
+            );
+        }
         for path in &written {
             let is_mesh = path.starts_with("meshes");
             assert!(
-                path == Path::new(model) || (is_mesh && format != "usd"),
+                models.iter().any(|m| path == Path::new(m)) || (is_mesh && format != "usd"),
                 "{format} wrote {}",
                 path.display()
             );
         }
-        assert_same_text(
-            Path::new(model),
-            &std::fs::read_to_string(first.path().join(model)).expect("model"),
-            &std::fs::read_to_string(out.path().join(model)).expect("model"),
-        );
     }
 }
 
