@@ -19,6 +19,9 @@
 //! cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps
 //! its axis: its range changes, or, when that fits the parts poorly (a door reversed about its
 //! handle's edge), its pivot; a failure late in the range is cut before the range is reversed.
+//! Variants are swept, and the original weighed, without the end-stop leeway a given joint's
+//! written limits get (`SweepParams::end_stop_travel_fraction`): a range this stage writes ends at
+//! the stop.
 
 use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range, symmetric_eigen};
 use uniphys_types::{Joint, JointKind, JointLimits};
@@ -86,6 +89,16 @@ pub(crate) fn correct_failed(
     params: &SweepParams,
     original: &SweepMetrics,
 ) -> VerifyResult<Option<Correction>> {
+    // A correction is written here, so it is put at the stops: no end-stop leeway, for the
+    // variants nor for the original they are weighed against.
+    let params = &SweepParams {
+        end_stop_travel_fraction: 0.0,
+        ..*params
+    };
+    let original = &SweepMetrics {
+        end_stop_crossed_fraction: 0.0,
+        ..original.clone()
+    };
     let nearly_passed = original.severity(params) <= NEARLY_PASSED_SEVERITY;
     let screen = SweepParams {
         steps: SCREEN_STEPS,

@@ -44,6 +44,11 @@ pub struct SweepParams {
     /// parts at rest passes through another part's surface where the moving parts were not at
     /// rest.
     pub crossing_fraction_max: f64,
+    /// A limited joint's last this fraction of travel on each side is its end stop: what the
+    /// moving surface crosses only there is the part meeting its stop a little past where a
+    /// real limit was written (a button pressed to the bottom of its socket), reported in
+    /// `end_stop_crossed_fraction` and no failure.
+    pub end_stop_travel_fraction: f64,
     /// Moving surface points this close to another part at rest (a fraction of the moving
     /// group's diagonal, at most `rest_contact_object_fraction` of the object's) are in contact
     /// at rest: they may slide along or out of it. A point crossing another part's surface
@@ -159,6 +164,7 @@ impl Default for SweepParams {
             bad_overlap_fraction_max: 0.1,
             penetration_tolerance_fraction: 0.015,
             crossing_fraction_max: 0.02,
+            end_stop_travel_fraction: 0.1,
             rest_contact_part_fraction: 0.03,
             rest_contact_object_fraction: 0.01,
             short_slide_fraction: 0.05,
@@ -226,7 +232,11 @@ pub struct SweepMetrics {
     pub crossed_points: usize,
     /// `crossed_points / clear_points` at the end of the sweep (0 without clear points).
     pub crossed_fraction: f64,
-    /// Coordinate where the crossed fraction first exceeded the maximum (rad or m), if it did.
+    /// Of `crossed_fraction`, the share crossed only within a limited joint's end stop (see
+    /// `SweepParams::end_stop_travel_fraction`).
+    pub end_stop_crossed_fraction: f64,
+    /// Coordinate where the share crossed before the end stops first exceeded the maximum (rad
+    /// or m), if it did.
     pub crossing_coordinate: Option<f64>,
     /// The part most crossed, if any.
     pub crossed_part: Option<usize>,
@@ -436,6 +446,7 @@ pub fn sweep(
         clear_points: 0,
         crossed_points: 0,
         crossed_fraction: 0.0,
+        end_stop_crossed_fraction: 0.0,
         crossing_coordinate: None,
         crossed_part: None,
         lost_contact_coordinate: None,
@@ -597,6 +608,13 @@ pub fn sweep(
     // Visited outward from the rest pose, the positive side first: every point's path is then
     // continuous from rest (a continuous joint's first step is not a jump to half a turn).
     let coordinates = sweep_coordinates(lower, upper, params.steps);
+    let limited = matches!(joint.kind, JointKind::Revolute | JointKind::Prismatic);
+    let in_end_stop = |q: f64| {
+        let side = if q >= 0.0 { upper } else { lower };
+        limited && side != 0.0 && q / side >= 1.0 - params.end_stop_travel_fraction
+    };
+    let mut end_stop_crossed = 0usize;
+    let clear_count = crossings.clear.len() as f64;
     let mut order: Vec<f64> = coordinates.iter().copied().filter(|&q| q >= 0.0).collect();
     order.extend(coordinates.iter().rev().copied().filter(|&q| q < 0.0));
     let mut previous_side = true;
@@ -627,7 +645,11 @@ pub fn sweep(
             .iter()
             .map(|p| to_object.transform_point3(*p))
             .collect();
+        let crossed_before = crossings.crossed_count;
         crossings.advance(scene, &moved);
+        if in_end_stop(q) {
+            end_stop_crossed += crossings.crossed_count - crossed_before;
+        }
         if let Some(ground_z_m) = scene.ground_z_m {
             let lowest_z_m = moved.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
             metrics.below_ground_m = metrics.below_ground_m.max(ground_z_m - lowest_z_m);
@@ -637,8 +659,9 @@ pub fn sweep(
         {
             metrics.below_ground_coordinate = Some(q);
         }
+        let before_end_stops = crossings.crossed_count - end_stop_crossed;
         if metrics.crossing_coordinate.is_none()
-            && crossings.fraction() > params.crossing_fraction_max
+            && before_end_stops as f64 > params.crossing_fraction_max * clear_count
         {
             metrics.crossing_coordinate = Some(q);
         }
@@ -671,6 +694,9 @@ pub fn sweep(
     metrics.mean_penetration_growth_m = growth_sum / params.steps.max(1) as f64;
     metrics.crossed_points = crossings.crossed_count;
     metrics.crossed_fraction = crossings.fraction();
+    if clear_count > 0.0 {
+        metrics.end_stop_crossed_fraction = end_stop_crossed as f64 / clear_count;
+    }
     metrics.crossed_part = crossings.most_crossed();
     if !thickness.is_empty() {
         metrics.thickness_ratio_p95 = percentile(&mut thickness, 95.0);

@@ -42,7 +42,9 @@ impl SweepMetrics {
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
     ///   at rest passes through another part's surface (where it crosses inside the space the
     ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
-    ///   overlapped at rest, or a symmetric part turning in place, is not new);
+    ///   overlapped at rest, or a symmetric part turning in place, is not new; what is crossed
+    ///   only in a limited joint's end stops, the last `end_stop_travel_fraction` of its travel
+    ///   on each side, is a stop met a little before the written limit and does not count);
     /// - any joint: a moving part goes below the ground the object stands on by more than
     ///   `below_ground_fraction_max` of the diagonal (a laptop's screen opened backwards).
     #[must_use]
@@ -178,13 +180,13 @@ impl SweepMetrics {
                 self.short_slide_gap_growth_m, self.short_slide_gap_max_m
             ));
         }
-        if self.crossed_fraction > params.crossing_fraction_max {
+        if self.crossed_before_end_stops() > params.crossing_fraction_max {
             let part = self
                 .crossed_part
                 .map_or_else(|| "?".to_owned(), |p| p.to_string());
             reasons.push(format!(
                 "passes through part {part}: {:.1} % of its clear surface from coordinate {:.4} (at most {:.1} %)",
-                100.0 * self.crossed_fraction,
+                100.0 * self.crossed_before_end_stops(),
                 self.crossing_coordinate.unwrap_or(f64::NAN),
                 100.0 * params.crossing_fraction_max
             ));
@@ -221,7 +223,11 @@ impl SweepMetrics {
         }
         let steps = self.steps.max(1) as f64;
         let rotational = self.rotational();
-        let mut s = self.crossed_fraction / params.crossing_fraction_max;
+        let mut s = self.crossed_before_end_stops() / params.crossing_fraction_max;
+        if self.crossed_fraction > params.crossing_fraction_max {
+            // Crossing at an end stop passes with no margin left.
+            s = s.max(1.0);
+        }
         if rotational {
             s = s.max(self.thickness_ratio_p95 / params.thickness_ratio_max);
         }
@@ -404,6 +410,11 @@ impl SweepMetrics {
             && self.hinge_to_parent_m > self.contact_reach_m
     }
 
+    /// Share of the clear moving surface that crossed another part before the end stops.
+    fn crossed_before_end_stops(&self) -> f64 {
+        (self.crossed_fraction - self.end_stop_crossed_fraction).max(0.0)
+    }
+
     /// The coordinate where the sweep first failed (passed through a part, lost contact or went
     /// below the ground), if it did at a known step.
     #[must_use]
@@ -437,6 +448,7 @@ impl SweepMetrics {
             ("clear_points", self.clear_points as f64),
             ("crossed_points", self.crossed_points as f64),
             ("crossed_fraction", self.crossed_fraction),
+            ("end_stop_crossed_fraction", self.end_stop_crossed_fraction),
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
             ("hinge_to_part_m", self.hinge_to_part_m),

@@ -172,6 +172,44 @@ fn cart_wheels_turning_in_their_forks_pass_unchanged() {
     assert_true_joints_pass_unchanged("kitchen-100491");
 }
 
+// A camera's shutter button is written to travel 5 mm; it meets the bottom of its socket in the
+// body 0.3 mm before that. The written limit's overshoot lies in the end stop, so the joint passes
+// as written (it was cut to 4.2 mm). Pressed half as far again, it goes through the body: caught,
+// and the range this stage writes ends before the body.
+const CAMERA: &str = "kitchen-101352";
+
+#[test]
+fn camera_buttons_pressed_to_the_bottom_of_their_sockets_pass_unchanged() {
+    assert_true_joints_pass_unchanged(CAMERA);
+}
+
+#[test]
+fn a_button_pressed_half_as_far_again_through_the_body_is_caught_and_cut() {
+    let o = object(CAMERA);
+    let i = o
+        .joints
+        .iter()
+        .position(|j| j.name == "joint_1")
+        .expect("joint_1");
+    let truth = o.joints[i].clone();
+    let written = truth.limits.expect("limits");
+    let mut deeper = truth.clone();
+    deeper.limits = Some(JointLimits {
+        lower: written.lower,
+        upper: written.upper * 1.5,
+    });
+    let verdict = o.caught(i, deeper);
+    assert!(
+        verdict.message.contains("passes through part"),
+        "{}",
+        verdict.message
+    );
+    let (fixed, change) = verdict.correction.expect("corrected");
+    assert!(change.contains("range cut"), "{change}");
+    let cut = fixed.limits.expect("limits");
+    assert!(cut.upper < written.upper, "{cut:?} against {written:?}");
+}
+
 /// The range of `joint` reversed: the part moves the other way.
 fn reversed(joint: &Joint) -> Joint {
     let limits = joint.limits.expect("a limited joint");
