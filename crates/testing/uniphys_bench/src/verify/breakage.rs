@@ -112,7 +112,7 @@ impl Breakage {
                 });
             }
         }
-        (!same_motion(&broken, truth, scale)).then_some(broken)
+        (!same_motion(&broken, truth, scale, RangeAgreement::HalfIou)).then_some(broken)
     }
 }
 
@@ -138,10 +138,25 @@ pub(crate) fn distance_to_line(point: DVec3, on: DVec3, axis: DVec3) -> f64 {
         .length()
 }
 
+/// How closely a range must agree with the true one for a joint to be the truth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RangeAgreement {
+    /// The part moves the way the truth moves it: at least half of the range lies in the true
+    /// range (a hinge made a slide and turned back cannot know how far the truth turns).
+    SameWay,
+    /// The signed ranges' intersection over union is at least one half.
+    HalfIou,
+}
+
 /// Whether `pred` moves the part as `truth` does: same kind of motion (turning or sliding), axis
 /// within 2 degrees, pivot on the true axis line within 0.05 of the [0,2] frame (`scale`: model
-/// units per metre), and the same way (signed ranges overlapping by half or more).
-pub(crate) fn same_motion(pred: &Joint, truth: &Joint, scale: f64) -> bool {
+/// units per metre), and ranges that agree as `agreement` asks.
+pub(crate) fn same_motion(
+    pred: &Joint,
+    truth: &Joint,
+    scale: f64,
+    agreement: RangeAgreement,
+) -> bool {
     if rotating(pred.kind) != rotating(truth.kind) {
         return false;
     }
@@ -170,7 +185,13 @@ pub(crate) fn same_motion(pred: &Joint, truth: &Joint, scale: f64) -> bool {
             } else {
                 (-p.upper, -p.lower)
             };
-            interval_iou((lo, hi), (t.lower, t.upper)) >= 0.5
+            match agreement {
+                RangeAgreement::HalfIou => interval_iou((lo, hi), (t.lower, t.upper)) >= 0.5,
+                RangeAgreement::SameWay => {
+                    let inside = (hi.min(t.upper) - lo.max(t.lower)).max(0.0);
+                    inside >= 0.5 * (hi - lo).max(1e-12)
+                }
+            }
         }
     }
 }

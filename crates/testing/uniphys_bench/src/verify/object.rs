@@ -15,7 +15,7 @@ use uniphys_verify::{
     edge_pivots, held_pivots, moving_group, rounded_end_pivots, sweep, verify_joint,
 };
 
-use crate::breakage::{Breakage, distance_to_line, rotating, same_motion};
+use crate::breakage::{Breakage, RangeAgreement, distance_to_line, rotating, same_motion};
 
 /// Surface samples per part, as the pipeline's verify stage.
 const SAMPLES_PER_PART: usize = 1500;
@@ -25,8 +25,10 @@ pub(crate) struct BreakResult {
     pub(crate) breakage: Breakage,
     /// The sweep failed the broken joint.
     pub(crate) caught: bool,
-    /// The correction gave back the truth.
+    /// The correction gave back the true line, moving the part the true way.
     pub(crate) restored: bool,
+    /// ... and a range whose intersection over union with the true one is at least a half.
+    pub(crate) restored_range: bool,
     /// The verifier's message.
     pub(crate) message: String,
     /// The deciding sweep's metrics (the correction's when one passed).
@@ -124,7 +126,7 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
         let corrected_wrong = verdict
             .correction
             .as_ref()
-            .is_some_and(|(j, _)| !same_motion(j, joint, scale));
+            .is_some_and(|(j, _)| !same_motion(j, joint, scale, RangeAgreement::HalfIou));
         let nearest_pivot_model = rotating(joint.kind)
             .then(|| nearest_pivot(&scene, &truth, joint, &child_points))
             .flatten()
@@ -150,7 +152,11 @@ pub(crate) fn judge_object(dir: &Path, breakages: &[Breakage]) -> anyhow::Result
                 restored: v
                     .correction
                     .as_ref()
-                    .is_some_and(|(j, _)| same_motion(j, joint, scale)),
+                    .is_some_and(|(j, _)| same_motion(j, joint, scale, RangeAgreement::SameWay)),
+                restored_range: v
+                    .correction
+                    .as_ref()
+                    .is_some_and(|(j, _)| same_motion(j, joint, scale, RangeAgreement::HalfIou)),
                 metrics: with_misfit(&v),
                 corrected: v.correction.map(|(j, _)| j),
                 message: v.message,
