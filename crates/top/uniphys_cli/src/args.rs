@@ -86,7 +86,9 @@ pub struct ExportArgs {
     #[arg(long, value_enum, default_value_t = ExportFormat::All)]
     pub format: ExportFormat,
     /// Where to write them (created if missing); the result folder itself when not given. Files
-    /// of the chosen format are replaced, others left as they are.
+    /// of the chosen format are replaced (each whole or not at all), others left as they are;
+    /// `--format all` also removes files in `meshes/`, `parts/` and `annotations/` that it no
+    /// longer writes.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

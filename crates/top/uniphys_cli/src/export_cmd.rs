@@ -30,12 +30,22 @@ pub(crate) fn export(args: &ExportArgs) -> anyhow::Result<ExitCode> {
     for artifact in &chosen {
         write(out, artifact)?;
     }
+    let removed = if args.format == ExportFormat::All {
+        remove_stale(out, &output.artifacts)?
+    } else {
+        0
+    };
     eprintln!(
-        "exported {} ({} files, {:?}) into {}",
+        "exported {} ({} files, {:?}) into {}{}",
         exported.record.name,
         chosen.len(),
         args.format,
-        out.display()
+        out.display(),
+        if removed > 0 {
+            format!("; removed {removed} files of an earlier export it no longer writes")
+        } else {
+            String::new()
+        }
     );
     Ok(ExitCode::SUCCESS)
 }
@@ -51,12 +61,49 @@ fn wanted(format: ExportFormat, path: &str) -> bool {
     }
 }
 
+/// Folders every file of which an export writes: after a whole export (`--format all`), a file in
+/// them that the export did not write is left over from an earlier one (a mesh split differently)
+/// and is removed. A single format leaves them alone: the other models there, not rewritten, may
+/// still read such a file.
+const EXPORT_FOLDERS: [&str; 3] = [MESH_DIR, "parts", "annotations"];
+
+/// Writes one file whole or not at all: its bytes go to a hidden file beside it, renamed over it.
 fn write(out: &Path, artifact: &Artifact) -> anyhow::Result<()> {
     let path = out.join(&artifact.path);
-    if let Some(folder) = path.parent() {
-        std::fs::create_dir_all(folder)
-            .with_context(|| format!("cannot create {}", folder.display()))?;
+    let folder = path.parent().unwrap_or(out);
+    std::fs::create_dir_all(folder)
+        .with_context(|| format!("cannot create {}", folder.display()))?;
+    let name = path.file_name().map_or_else(
+        || artifact.path.clone(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let partial = folder.join(format!(".{name}.partial"));
+    std::fs::write(&partial, &artifact.bytes)
+        .with_context(|| format!("cannot write {}", partial.display()))?;
+    std::fs::rename(&partial, &path)
+        .with_context(|| format!("cannot move {} to {}", partial.display(), path.display()))
+}
+
+/// Removes the files in [`EXPORT_FOLDERS`] under `out` that are not among `written`; returns how
+/// many.
+fn remove_stale(out: &Path, written: &[Artifact]) -> anyhow::Result<usize> {
+    let kept: std::collections::BTreeSet<&str> = written.iter().map(|a| a.path.as_str()).collect();
+    let mut removed = 0;
+    for folder in EXPORT_FOLDERS {
+        let dir = out.join(folder);
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries {
+            let entry = entry.with_context(|| format!("cannot list {}", dir.display()))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if !entry.path().is_file() || kept.contains(format!("{folder}/{name}").as_str()) {
+                continue;
+            }
+            std::fs::remove_file(entry.path())
+                .with_context(|| format!("cannot remove {}", entry.path().display()))?;
+            removed += 1;
+        }
     }
-    std::fs::write(&path, &artifact.bytes)
-        .with_context(|| format!("cannot write {}", path.display()))
+    Ok(removed)
 }

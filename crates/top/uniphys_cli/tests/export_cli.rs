@@ -185,3 +185,32 @@ fn export_of_a_folder_that_is_no_result_says_what_to_give() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_whole_export_in_place_removes_what_it_no_longer_writes_and_one_format_keeps_it() {
+    let result = tempfile::tempdir().expect("tempdir");
+    run_example("cabinet.glb", result.path());
+    let before = files(result.path());
+    // Files an earlier export wrote and this one does not (a mesh split otherwise, a part gone).
+    let stale = ["meshes/part_9_visual_m0.obj", "parts/part_9.obj"];
+    for path in stale {
+        std::fs::write(result.path().join(path), "o stale\n").expect("stale file");
+    }
+    let folder = result.path().display().to_string();
+    assert_ok(&uniphys(&["export", &folder, "--format", "urdf"]));
+    for path in stale {
+        assert!(
+            result.path().join(path).is_file(),
+            "one format removed {path}, which a model it did not rewrite may read"
+        );
+    }
+    let output = uniphys(&["export", &folder]);
+    assert_ok(&output);
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains("removed 2 files"),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    // Nothing else went, and no partial file is left behind.
+    assert_eq!(files(result.path()), before);
+}
