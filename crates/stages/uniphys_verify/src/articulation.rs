@@ -10,7 +10,8 @@ use crate::VerifyResult;
 use crate::correct::correct_failed;
 use crate::fit;
 use crate::scene::{Scene, moving_group};
-use crate::sweep::{SweepMetrics, SweepParams, sweep};
+use crate::sweep::{SweepMetrics, sweep};
+use crate::sweep_params::SweepParams;
 
 /// The result of verifying the joints of an asset.
 #[derive(Debug, Clone, PartialEq)]

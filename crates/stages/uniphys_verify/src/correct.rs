@@ -33,7 +33,8 @@ use crate::held::{contact_normal_tensor, slide_touch_m};
 use crate::in_plane::held_pivots;
 use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
-use crate::sweep::{SweepMetrics, SweepParams, sweep};
+use crate::sweep::{SweepMetrics, sweep};
+use crate::sweep_params::SweepParams;
 
 /// A corrected joint, what was changed, and the sweep it passed.
 #[derive(Debug, Clone, PartialEq)]

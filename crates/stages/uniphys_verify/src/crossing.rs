@@ -11,7 +11,7 @@ use crate::held::rest_contact_m;
 use crate::motion::JointMotion;
 use crate::penetration::to_f32;
 use crate::scene::Scene;
-use crate::sweep::SweepParams;
+use crate::sweep_params::SweepParams;
 
 /// One part's surface with a bounding volume hierarchy (parry), relative to the scene origin.
 struct PartSurface {

@@ -8,7 +8,7 @@ use uniphys_types::JointKind;
 
 use crate::motion::JointMotion;
 use crate::scene::Scene;
-use crate::sweep::SweepParams;
+use crate::sweep_params::SweepParams;
 
 /// Smallest and mean distance from a turning joint's axis line, over the stretch where it
 /// passes the moving points, to the parent's surface (0 for other joints), metres.

@@ -19,7 +19,7 @@ use crate::held::{mean, rest_contact_m};
 use crate::part_box::{Boxed, PartBox};
 use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
-use crate::sweep::SweepParams;
+use crate::sweep_params::SweepParams;
 
 /// Most moving samples probed for the parts over and under the panel.
 const PROBE_SAMPLES_MAX: usize = 1000;

@@ -50,6 +50,7 @@ mod scene;
 mod slide_side;
 mod slot;
 mod sweep;
+mod sweep_params;
 mod verdict;
 
 pub use articulation::{ArticulationOutcome, JointVerdict, verify_articulation, verify_joint};
@@ -71,4 +72,5 @@ pub use plausibility::plausibility_checks;
 pub use rounded_ends::rounded_end_pivots;
 pub use scene::{Scene, moving_group};
 pub use slide_side::SlideSide;
-pub use sweep::{SweepMetrics, SweepParams, sweep};
+pub use sweep::{SweepMetrics, sweep};
+pub use sweep_params::SweepParams;

@@ -9,7 +9,8 @@ use uniphys_types::JointKind;
 use crate::in_plane::InPlaneTurn;
 use crate::off_round::OffRoundSpin;
 use crate::slide_side::SlideSide;
-use crate::sweep::{SweepMetrics, SweepParams};
+use crate::sweep::SweepMetrics;
+use crate::sweep_params::SweepParams;
 
 impl SweepMetrics {
     /// Why the joint fails, empty when it passes:
