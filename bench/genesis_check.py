@@ -14,12 +14,11 @@ object and a summary. Usage, in a venv with genesis-world and torch (scripts/ben
   [--only NAME ...] (UNIPHYS_BIN names the binary; default target/release/uniphys)
 """
 
-import argparse
 from pathlib import Path
 
 import numpy as np
 
-from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, check_each, drive_stiffness,
+from sim_objects import (MAX_SPEED, REACH_TOLERANCE, arguments, check_each, drive_stiffness,
                          limited_joints, movable_dofs, moving_mass_kg, print_table)
 
 DT_SECS = 0.002
@@ -82,10 +81,8 @@ def check(gs, out: Path, record, fmt: str):
 
 
 def main():
-    parser = argparse.ArgumentParser()
+    parser = arguments()
     parser.add_argument("--format", choices=["mjcf", "urdf"], default="mjcf")
-    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
-    parser.add_argument("--only", nargs="*")
     args = parser.parse_args()
     import genesis as gs
 

@@ -11,14 +11,13 @@ Usage: .venv/bin/python bench/sapien_check.py [--data ../shared/data/partnet-mob
 (UNIPHYS_BIN names the binary; default target/release/uniphys)
 """
 
-import argparse
 import re
 from pathlib import Path
 
 import numpy as np
 import sapien
 
-from sim_objects import (DEFAULT_DATA, MAX_SPEED, REACH_TOLERANCE, check_each, drive_stiffness,
+from sim_objects import (MAX_SPEED, REACH_TOLERANCE, arguments, check_each, drive_stiffness,
                          limited_joints, movable_dofs, moving_mass_kg, print_table)
 
 STEP_S = 1.0 / 240.0
@@ -77,9 +76,7 @@ def check(out: Path, record):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
-    parser.add_argument("--only", nargs="*")
+    parser = arguments()
     args = parser.parse_args()
     rows = check_each(args.data, args.only, check, "sapien_check")
     print_table("SAPIEN (URDF, PhysX CPU)", ("dofs / movable joints", "limited joints reaching both limits"),

@@ -3,6 +3,7 @@ example assets and the shared PartNet-Mobility objects as shipped (true joints),
 `uniphys run`, and what the checks share: the record's movable joints, the weight a drive lifts,
 the table."""
 
+import argparse
 import json
 import os
 import subprocess
@@ -14,6 +15,14 @@ REPO = Path(__file__).resolve().parents[1]
 DEFAULT_DATA = REPO.parent / "shared" / "data" / "partnet-mobility"
 REACH_TOLERANCE = 0.05  # share of a joint's range a driven joint may stop short by
 MAX_SPEED = 50.0  # rad/s or m/s: faster in a passive asset is an explosion
+
+
+def arguments() -> argparse.ArgumentParser:
+    """The command line every check takes: `--data` (the shared objects' folder) and `--only`."""
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
+    parser.add_argument("--only", nargs="*")
+    return parser
 
 
 def inputs(data: Path, only):

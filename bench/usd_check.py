@@ -10,14 +10,13 @@ Usage: .venv/bin/python bench/usd_check.py [--data ../shared/data/partnet-mobili
 (UNIPHYS_BIN names the binary; default target/release/uniphys)
 """
 
-import argparse
 import json
 import math
 from pathlib import Path
 
 from pxr import Usd, UsdPhysics, UsdValidation
 
-from sim_objects import DEFAULT_DATA, check_each, movable_dofs, print_table
+from sim_objects import arguments, check_each, movable_dofs, print_table
 
 VALIDATORS = ("usdPhysicsValidators:", "usdShadeValidators:", "usdGeomValidators:", "usdValidation:")
 
@@ -74,9 +73,7 @@ def check(out: Path, record, chosen):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
-    parser.add_argument("--only", nargs="*")
+    parser = arguments()
     args = parser.parse_args()
     chosen = validators()
     rows = check_each(args.data, args.only, lambda out, record: check(out, record, chosen), "usd_check")
