@@ -162,8 +162,8 @@ fn dense<T>(mut map: BTreeMap<usize, T>, placeholder: impl Fn(usize) -> T) -> Ve
         .collect()
 }
 
-/// The materials of a part's MTL, by their index in the asset (the `m<i>_` of their names);
-/// `default` is the colour of faces without a material.
+/// The materials of a part's MTL, by their index in the asset (the `m<i>_` of their names), and
+/// each material name's index (`None` for the part's own colour, which is no asset material).
 struct Mtl {
     materials: BTreeMap<u32, SurfaceMaterial>,
     by_name: BTreeMap<String, Option<u32>>,
