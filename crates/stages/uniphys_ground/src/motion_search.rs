@@ -3,11 +3,12 @@
 //! the motions").
 //!
 //! 1. **Spin**: a part round about an axis turns continuously about it ([`crate::spin`]), unless it
-//!    is small (its box diagonal under a fifth of its parent's) and flat as a coin.
-//! 2. **Push or turn**: a small part that is a coin, or not round and flat, moves a short way into
-//!    its parent along the normal of the face it sits on (a button or a key); one that is not
-//!    round but stands out of the face by 40 % of its width or more is a knob with a grip and
-//!    turns about that normal ([`crate::small_part`]).
+//!    is small (its box diagonal under a fifth of its parent's), sits on a face of its parent and
+//!    gives a hand nothing to turn it by: smooth all round and squat (a round button).
+//! 2. **Push or turn**: such a button, or a small part that is not round and flat, moves a short
+//!    way into its parent along the normal of the face it sits on (a button or a key); one that
+//!    is not round but stands out of the face by 40 % of its width or more is a knob with a grip
+//!    and turns about that normal ([`crate::small_part`]).
 //! 3. **Twist**: a part held by one small flat patch of contact (a stem: a faucet's lever, a
 //!    blade on its pin) twists about the patch's normal through its middle when that turn is
 //!    free by a quarter turn or more ([`crate::stem`]).
@@ -44,15 +45,12 @@ use uniphys_verify::{Scene, SweepMetrics, SweepParams, sweep};
 use crate::articulate::builtin_joint;
 use crate::hinge_range::hinge_range;
 use crate::hypotheses::{extent_along, mean};
-use crate::small_part::small_part_motion;
+use crate::small_part::{pushed_not_turned, small_part_motion};
 use crate::spin::spin_axis;
 use crate::stem::{stem, twist_joint};
 
 /// A part whose box diagonal is under this fraction of its parent's is pushed (a button).
 const SMALL_PART_FRACTION: f64 = 0.2;
-/// A round small part whose length along its axis is under this fraction of its width is a
-/// coin (a round button, pushed); above it a stub (a knob, turned).
-const COIN_RATIO: f64 = 0.2;
 /// A part whose thinnest box extent is under this fraction of the middle one is a panel (a
 /// door, a lid, a screen): it hinges first, slides only when it cannot hinge.
 const THIN_RATIO: f64 = 0.15;
@@ -139,7 +137,9 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     let parent_diagonal = Aabb::from_points(&parent_points).diagonal();
     let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
     let spin = spin_axis(scene, mover.child, &child_points, part, inward);
-    if let Some(spin) = spin.filter(|s| !small || s.length_over_width >= COIN_RATIO) {
+    let button =
+        small && spin.is_some_and(|s| pushed_not_turned(scene, mover.parent, &child_points, &s));
+    if let Some(spin) = spin.filter(|_| !button) {
         return Motion {
             joint: Some(joint(
                 mover,

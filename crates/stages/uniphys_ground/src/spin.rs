@@ -40,8 +40,8 @@ pub(crate) struct Spin {
     pub centre: DVec3,
     /// The smallest share of turned samples back on the part over the test turns.
     pub kept_fraction: f64,
-    /// The part's extent along the axis over its largest extent across it: below about a fifth
-    /// the part is a coin (a flat button), above it a stub (a knob, a wheel).
+    /// The part's extent along the axis over its largest extent across it: a squat part (a
+    /// button, a dial) is low, a stub (a knob to pinch, a bottle) high.
     pub length_over_width: f64,
 }
 

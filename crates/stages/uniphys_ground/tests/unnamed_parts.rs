@@ -225,18 +225,47 @@ fn a_screen_open_at_rest_closes_onto_its_base_and_opens_further() {
     );
 }
 
-#[test]
-fn a_round_knob_on_a_face_spins_about_its_own_axis() {
+/// A smooth cylinder of radius 0.025 about y, standing `length` out of the front face of a
+/// cabinet, joined to it; its joint.
+fn round_part_on_a_front_face(length: f64) -> Joint {
     let body = cuboid(DVec3::new(-0.3, -0.25, 0.0), DVec3::new(0.3, 0.25, 0.7));
-    // A cylinder about y standing 0.03 out of the front face.
     let to_front = quarter_turn_z_to_front();
-    let knob = translated(
-        cylinder(0.025, 0.0, 0.03, 32).transformed(&to_front),
+    let part = translated(
+        cylinder(0.025, 0.0, length, 32).transformed(&to_front),
         DVec3::new(0.1, -0.25, 0.5),
     );
-    let joint = joint_of_part_1(&[body, knob]);
+    joint_of_part_1(&[body, part])
+}
+
+#[test]
+fn a_round_knob_standing_out_of_a_face_spins_about_its_own_axis() {
+    // As tall as it is wide: fingers pinch its sides.
+    let joint = round_part_on_a_front_face(0.05);
     assert_eq!(joint.kind, JointKind::Continuous, "{joint:#?}");
     assert!(axis(&joint).y.abs() > 0.99, "{joint:#?}");
+}
+
+#[test]
+fn a_smooth_squat_round_button_on_a_face_is_pushed_into_it() {
+    // A fifth as tall as it is wide, smooth all round: nothing to turn it by.
+    let joint = round_part_on_a_front_face(0.01);
+    assert_eq!(joint.kind, JointKind::Prismatic, "{joint:#?}");
+    assert!(axis(&joint).dot(DVec3::Y) > 0.99, "pushed in: {joint:#?}");
+    let travel = joint.limits.expect("limits").upper;
+    assert!(travel > 0.0 && travel <= 0.01, "{travel}");
+}
+
+#[test]
+fn a_smooth_squat_cap_on_a_neck_spins() {
+    // A bottle: a body, a neck of radius 0.03 and a cap as wide as the neck on its end. The
+    // cap is as squat and smooth as a button, but no face lies beside it: it caps the neck.
+    let body = cylinder(0.12, 0.0, 0.3, 48);
+    let neck = cylinder(0.03, 0.3, 0.36, 32);
+    let cap = cylinder(0.032, 0.36, 0.38, 32);
+    let bottle = TriMesh::merge([&body, &neck]);
+    let joint = joint_of_part_1(&[bottle, cap]);
+    assert_eq!(joint.kind, JointKind::Continuous, "{joint:#?}");
+    assert!(axis(&joint).z.abs() > 0.99, "{joint:#?}");
 }
 
 #[test]

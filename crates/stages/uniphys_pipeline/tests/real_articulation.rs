@@ -142,6 +142,12 @@ fn a_cart_gets_four_spinning_wheels() {
 }
 
 #[test]
+fn a_dishwasher_gets_its_round_buttons_pushed_and_its_door_dropping_open() {
+    // Four smooth squat cylinders on the door's panel: buttons, not knobs.
+    check("kitchen-12428", true);
+}
+
+#[test]
 fn a_table_gets_its_three_drawers() {
     check("kitchen-26387", false);
 }
