@@ -10,6 +10,9 @@
 //! holds more of the piece, except a round part carved out of the piece whose rest is not
 //! round about the same line (a wheel or a switch welded to its mount), which can spin.
 //!
+//! Two big pieces (each at least a quarter of its part) in one part, neither inside the other's
+//! box, are two parts: a laptop's screen and base, each one piece, merged by the views.
+//!
 //! Controls are small pieces, and inside pieces too large to be one, finer pieces split where
 //! three or more faces share an edge: a button modelled onto its panel shares the panel's
 //! vertices, but its walls stand on the panel along edges the panel's own faces continue across (on the shared objects this finds
@@ -222,6 +225,7 @@ pub fn respect_pieces(
             }
         }
     }
+    let parts = split_two_big_pieces(mesh, &mut labels, parts, &piece, &face_area_m2);
     let mut part_area_m2 = vec![0.0f64; parts];
     for (f, &p) in labels.iter().enumerate() {
         part_area_m2[p as usize] += face_area_m2[f];
@@ -401,6 +405,98 @@ impl Shape {
     }
 }
 
+/// A piece holding at least this share of its part's area is big ...
+const BIG_PIECE_SHARE: f64 = 0.25;
+
+/// Splits a part made of exactly two big whole pieces (and dust) into two: a laptop's screen
+/// and base, or a lid and its box, each modelled as one piece and merged by the views, since
+/// one piece is one thing and two big ones are likely two. Returns the new part count.
+fn split_two_big_pieces(
+    mesh: &TriMesh,
+    labels: &mut [u32],
+    parts: usize,
+    piece: &[u32],
+    face_area_m2: &[f64],
+) -> usize {
+    let mut area = vec![std::collections::HashMap::<u32, f64>::new(); parts];
+    let mut part_m2 = vec![0.0f64; parts];
+    for (f, (&l, &q)) in labels.iter().zip(piece).enumerate() {
+        *area[l as usize].entry(q).or_default() += face_area_m2[f];
+        part_m2[l as usize] += face_area_m2[f];
+    }
+    let mut next = u32::try_from(parts).unwrap_or(u32::MAX);
+    let mut moved: Vec<(u32, u32)> = Vec::new();
+    for (p, by_piece) in area.iter().enumerate() {
+        let big: Vec<(u32, f64)> = by_piece
+            .iter()
+            .filter(|&(_, &a)| a >= BIG_PIECE_SHARE * part_m2[p])
+            .map(|(&q, &a)| (q, a))
+            .collect();
+        if big.len() == 2 {
+            let (larger, smaller) = if big[0].1 <= big[1].1 {
+                (big[1].0, big[0].0)
+            } else {
+                (big[0].0, big[1].0)
+            };
+            if !nested(mesh, piece, smaller, larger) {
+                moved.push((smaller, next));
+                next += 1;
+            }
+        }
+    }
+    for (l, &q) in labels.iter_mut().zip(piece) {
+        if let Some(&(_, to)) = moved.iter().find(|(from, _)| *from == q) {
+            *l = to;
+        }
+    }
+    next as usize
+}
+
+/// A piece is nested in another when at least this share of its area lies inside the other's
+/// box (its principal axes): a liner inside a shell, a shelf inside a carcass.
+const NESTED_SHARE: f64 = 0.5;
+
+/// Whether piece `inner` lies inside the box of piece `outer` (see [`NESTED_SHARE`]), judged by
+/// its faces' centres weighted by their areas.
+fn nested(mesh: &TriMesh, piece: &[u32], inner: u32, outer: u32) -> bool {
+    let faces_of = |q: u32| {
+        piece
+            .iter()
+            .enumerate()
+            .filter(move |&(_, &p)| p == q)
+            .map(|(f, _)| f)
+    };
+    let outside: Vec<DVec3> = faces_of(outer)
+        .flat_map(|f| mesh.triangles[f].map(|v| mesh.positions[v as usize]))
+        .collect();
+    if outside.is_empty() {
+        return false;
+    }
+    let axes = principal_axes(&outside);
+    let ranges: Vec<(f64, f64)> = axes
+        .iter()
+        .map(|&a| projection_range(&outside, a))
+        .collect();
+    let (mut within_m2, mut total_m2) = (0.0, 0.0);
+    for f in faces_of(inner) {
+        let centre = mesh.triangles[f]
+            .iter()
+            .map(|&v| mesh.positions[v as usize])
+            .sum::<DVec3>()
+            / 3.0;
+        let area = mesh.face_area(f);
+        total_m2 += area;
+        if axes
+            .iter()
+            .zip(&ranges)
+            .all(|(&a, &(lo, hi))| (lo..=hi).contains(&centre.dot(a)))
+        {
+            within_m2 += area;
+        }
+    }
+    total_m2 > 0.0 && within_m2 >= NESTED_SHARE * total_m2
+}
+
 #[cfg(test)]
 mod tests {
     use uniphys_geometry::TriMesh;
@@ -429,6 +525,27 @@ mod tests {
         assert_eq!(report.controls_kept, 1);
         assert!(labels[..12].iter().all(|&l| l == labels[0]));
         assert!(labels[12..].iter().all(|&l| l != labels[0]));
+    }
+
+    #[test]
+    fn two_big_pieces_merged_into_one_part_are_two_parts_unless_one_is_inside_the_other() {
+        // A laptop: a base slab and a screen slab standing on its back edge, two pieces that
+        // the views merged into one part.
+        let laptop = boxes(&[
+            (DVec3::ZERO, DVec3::new(1.0, 0.7, 0.04)),
+            (DVec3::new(0.02, 0.66, 0.04), DVec3::new(0.98, 0.7, 0.7)),
+        ]);
+        let (labels, count, _) = respect_pieces(&laptop, &[0; 24], &PieceOptions::default());
+        assert_eq!(count, 2, "{labels:?}");
+        assert!(labels[..12].iter().all(|&l| l == labels[0]));
+        assert!(labels[12..].iter().all(|&l| l != labels[0]));
+        // A shell with a liner inside it: one rigid body of two pieces.
+        let shell = boxes(&[
+            (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.2)),
+            (DVec3::splat(0.05), DVec3::new(0.95, 0.75, 1.15)),
+        ]);
+        let (labels, count, _) = respect_pieces(&shell, &[0; 24], &PieceOptions::default());
+        assert_eq!(count, 1, "{labels:?}");
     }
 
     #[test]
