@@ -33,6 +33,7 @@ WITHIN_GROUP = {
     "uniphys_geometry": {"uniphys_types"},
     # The model-service clients share one error and retry policy over one HTTP client.
     "uniphys_vision": {"uniphys_http"},
+    "uniphys_uniphysgen": {"uniphys_http"},
     "uniphys_render": {"uniphys_geometry", "uniphys_types"},
     # The grounder and the annotator score motions with the verifier's sweep.
     "uniphys_ground": {"uniphys_verify"},
