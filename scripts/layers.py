@@ -32,6 +32,7 @@ MAY_USE = {
 WITHIN_GROUP = {
     "uniphys_geometry": {"uniphys_types"},
     # The model-service clients share one error and retry policy over one HTTP client.
+    "uniphys_lvlm": {"uniphys_http"},
     "uniphys_vision": {"uniphys_http"},
     "uniphys_uniphysgen": {"uniphys_http"},
     "uniphys_render": {"uniphys_geometry", "uniphys_types"},
