@@ -148,8 +148,8 @@ impl LvlmClient {
     /// (`uniphys_http`): 408, 425, 429, 500, 502, 503, 504 (a `Retry-After` on 429/503
     /// honoured, capped at `backoff_max_secs`), timeouts, connection errors and truncated
     /// bodies, and here also malformed bodies, are retried with jittered exponential backoff up
-    /// to `max_attempts`; other statuses fail at once. Usage of every attempt that reported one is charged; an answer without
-    /// usage is charged an estimate (marked `estimated`).
+    /// to `max_attempts`; other statuses fail at once. Usage of every attempt that reported one
+    /// is charged; an answer without usage is charged an estimate (marked `estimated`).
     ///
     /// # Errors
     /// [`LvlmError::BudgetExceeded`] (nothing sent for that attempt), [`LvlmError::GaveUp`],
