@@ -31,6 +31,10 @@ MAY_USE = {
 # Edges allowed inside a group (every other one is refused).
 WITHIN_GROUP = {
     "uniphys_geometry": {"uniphys_types"},
+    # The model-service clients share one error and retry policy over one HTTP client.
+    "uniphys_lvlm": {"uniphys_http"},
+    "uniphys_vision": {"uniphys_http"},
+    "uniphys_uniphysgen": {"uniphys_http"},
     "uniphys_render": {"uniphys_geometry", "uniphys_types"},
     # The grounder and the annotator score motions with the verifier's sweep.
     "uniphys_ground": {"uniphys_verify"},

@@ -1,6 +1,9 @@
 use std::time::Duration;
 
-/// Wait after failed attempt `attempt` (1-based) of the request with digest `digest`.
+use uniphys_http::RetryPolicy;
+
+/// Wait after failed attempt `attempt` (1-based) of the request with digest `digest`, by the
+/// shared policy (`uniphys_http::RetryPolicy` with half of each backoff jitter).
 ///
 /// With a server's `Retry-After`, that wait, capped at `max`. Otherwise the exponential
 /// `initial * 2^(attempt - 1)`, capped at `max`, scaled by a jitter factor in [0.5, 1) derived
@@ -14,25 +17,19 @@ pub fn backoff_delay(
     digest: &str,
     retry_after: Option<Duration>,
 ) -> Duration {
-    if let Some(wait) = retry_after {
-        return wait.min(max);
-    }
-    let factor = 2u32.saturating_pow(attempt.saturating_sub(1).min(30));
-    let base = initial.saturating_mul(factor).min(max);
-    base.mul_f64(0.5 + 0.5 * unit_jitter(digest, attempt))
+    retry_policy(initial, max, 1).delay(attempt, digest.as_bytes(), retry_after)
 }
 
-/// A number in [0, 1) from `digest` and `attempt` (FNV-1a, then the SplitMix64 finaliser).
-fn unit_jitter(digest: &str, attempt: u32) -> f64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in digest.bytes().chain(attempt.to_le_bytes()) {
-        hash ^= u64::from(byte);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+/// The shared retry policy with these settings: `max_attempts`, backoff from `initial` to at
+/// most `max` (which also caps `Retry-After`), half of each backoff jitter, no deadline.
+pub(crate) fn retry_policy(initial: Duration, max: Duration, max_attempts: u32) -> RetryPolicy {
+    RetryPolicy {
+        max_attempts,
+        base_delay: initial,
+        max_delay: max,
+        jitter_fraction: 0.5,
+        deadline: None,
     }
-    hash = (hash ^ (hash >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    hash = (hash ^ (hash >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    hash ^= hash >> 31;
-    (hash >> 11) as f64 / (1u64 << 53) as f64
 }
 
 #[cfg(test)]
@@ -70,13 +67,5 @@ mod tests {
         assert_eq!(backoff_delay(MS, max, 1, "d", wait), Duration::from_secs(7));
         let long = Some(Duration::from_secs(600));
         assert_eq!(backoff_delay(MS, max, 1, "d", long), max);
-    }
-
-    #[test]
-    fn jitter_is_in_the_unit_interval() {
-        for attempt in 0..200 {
-            let u = unit_jitter("some-digest", attempt);
-            assert!((0.0..1.0).contains(&u), "{u}");
-        }
     }
 }

@@ -1,13 +1,17 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use ureq::Agent;
+use uniphys_http::{
+    Class, Failure as HttpFailure, FailureKind, HttpClient, HttpConfig, HttpError, RetryPolicy,
+    Step, status_class,
+};
 
+use crate::backoff::retry_policy;
 use crate::ledger::estimate_cost_usd;
 use crate::response::{Failure, parse_inner, server_message, usage_of};
 use crate::{
     API_KEY_VARIABLE, AnswerCache, CachedAnswer, ChatRequest, ChatResponse, CostLedger, LvlmConfig,
-    LvlmError, LvlmResult, Permits, RateLimiter, Usage, backoff_delay, estimate_prompt_tokens,
+    LvlmError, LvlmResult, Permits, RateLimiter, Usage, estimate_prompt_tokens,
 };
 
 /// Largest response body the client reads.
@@ -46,8 +50,7 @@ pub struct ChatAnswer {
 enum Attempt {
     Answer(ChatResponse),
     Retry {
-        reason: String,
-        retry_after: Option<Duration>,
+        failure: HttpFailure,
         usage: Option<Usage>,
     },
     Fail {
@@ -60,7 +63,8 @@ enum Attempt {
 /// (in an `Arc`) between all threads: its concurrency limit is per client.
 pub struct LvlmClient {
     config: LvlmConfig,
-    agent: Agent,
+    http: HttpClient,
+    policy: RetryPolicy,
     limiter: Arc<dyn RateLimiter>,
     cache: Arc<dyn AnswerCache>,
     permits: Permits,
@@ -87,20 +91,28 @@ impl LvlmClient {
         cache: Arc<dyn AnswerCache>,
     ) -> LvlmResult<Self> {
         config.validate()?;
-        let idle = config.max_concurrency.max(3);
-        let agent = Agent::config_builder()
-            .timeout_global(Some(config.request_timeout()))
-            .timeout_connect(Some(config.connect_timeout()))
-            .http_status_as_error(false)
-            .max_idle_connections(idle)
-            .max_idle_connections_per_host(idle)
-            .user_agent("uniphys-lvlm")
-            .build()
-            .new_agent();
+        let http = HttpClient::new(HttpConfig {
+            connect_timeout: config.connect_timeout(),
+            attempt_timeout: config.request_timeout(),
+            max_response_bytes: MAX_RESPONSE_BYTES,
+            user_agent: "uniphys-lvlm".to_owned(),
+            max_idle_per_host: config.max_concurrency.max(3),
+        })
+        .map_err(|error| LvlmError::InvalidConfig {
+            name: "connect_timeout_secs / request_timeout_secs",
+            value: error.to_string(),
+            expected: "settings the HTTP client accepts",
+        })?;
+        let policy = retry_policy(
+            config.backoff_initial(),
+            config.backoff_max(),
+            config.max_attempts,
+        );
         let permits = Permits::new(config.max_concurrency);
         Ok(Self {
             config,
-            agent,
+            http,
+            policy,
             limiter,
             cache,
             permits,
@@ -132,11 +144,12 @@ impl LvlmClient {
     ///
     /// A cached answer for the same body is returned at no cost. Otherwise, for each attempt:
     /// budget check (spent + in flight + this request's estimate), a concurrency permit, a
-    /// rate-limiter token, then `POST {base_url}/chat/completions`. 429 (its `Retry-After`
-    /// honoured, capped), 408, 409, 5xx, timeouts, connection errors, truncated and malformed
-    /// bodies are retried with jittered exponential backoff up to `max_attempts`; other 4xx
-    /// fail at once. Usage of every attempt that reported one is charged; an answer without
-    /// usage is charged an estimate (marked `estimated`).
+    /// rate-limiter token, then `POST {base_url}/chat/completions`. The shared retry policy
+    /// (`uniphys_http`): 408, 425, 429, 500, 502, 503, 504 (a `Retry-After` on 429/503
+    /// honoured, capped at `backoff_max_secs`), timeouts, connection errors and truncated
+    /// bodies, and here also malformed bodies, are retried with jittered exponential backoff up
+    /// to `max_attempts`; other statuses fail at once. Usage of every attempt that reported one
+    /// is charged; an answer without usage is charged an estimate (marked `estimated`).
     ///
     /// # Errors
     /// [`LvlmError::BudgetExceeded`] (nothing sent for that attempt), [`LvlmError::GaveUp`],
@@ -160,22 +173,30 @@ impl LvlmClient {
             });
         }
         let estimated_usd = estimate_cost_usd(request, &self.config);
+        let url = format!(
+            "{}{COMPLETIONS_PATH}",
+            self.config.base_url.trim_end_matches('/')
+        );
         let mut cost_usd = 0.0;
-        let mut attempt = 1;
-        loop {
-            let last = attempt >= self.config.max_attempts;
-            let outcome = {
-                let _reservation = ledger.reserve(purpose, estimated_usd)?;
+        let mut attempts = 0;
+        let response = self.policy.run(
+            body.digest.as_bytes(),
+            |attempt| {
+                attempts = attempt.number;
+                let _reservation = match ledger.reserve(purpose, estimated_usd) {
+                    Ok(reservation) => reservation,
+                    Err(error) => return Step::Stop(error),
+                };
                 let outcome = {
                     let _permit = self.permits.acquire();
                     if let Err(error) = self.limiter.acquire() {
                         ledger.record_failed_attempt(purpose, None, false);
-                        return Err(error);
+                        return Step::Stop(error);
                     }
-                    self.attempt(&body.json, purpose)
+                    self.attempt(&url, &body.json, purpose, attempt.time_left)
                 };
                 // Charge while the reservation is held, so the budget never misses this cost.
-                match &outcome {
+                match outcome {
                     Attempt::Answer(response) => {
                         let usage = response
                             .usage
@@ -183,55 +204,33 @@ impl LvlmClient {
                         let cost = self.cost(&usage);
                         cost_usd += cost;
                         ledger.record_answer(purpose, &usage, cost);
+                        Step::Done(response)
                     }
-                    Attempt::Retry { usage, .. } => {
+                    Attempt::Retry { failure, usage } => {
                         let charged = usage.map(|u| (u, self.cost(&u)));
                         cost_usd += charged.map_or(0.0, |(_, c)| c);
                         ledger.record_failed_attempt(
                             purpose,
                             charged.as_ref().map(|(u, c)| (u, *c)),
-                            !last,
+                            !attempt.is_last,
                         );
+                        Step::Retry(failure)
                     }
-                    Attempt::Fail { usage, .. } => {
+                    Attempt::Fail { error, usage } => {
                         let charged = usage.map(|u| (u, self.cost(&u)));
                         ledger.record_failed_attempt(
                             purpose,
                             charged.as_ref().map(|(u, c)| (u, *c)),
                             false,
                         );
+                        Step::Stop(error)
                     }
                 }
-                outcome
-            };
-            match outcome {
-                Attempt::Answer(response) => {
-                    return Ok(self.answer(response, request, body.digest, cost_usd, attempt));
-                }
-                Attempt::Fail { error, .. } => return Err(error),
-                Attempt::Retry {
-                    reason,
-                    retry_after,
-                    ..
-                } => {
-                    if last {
-                        return Err(LvlmError::GaveUp {
-                            purpose: purpose.to_owned(),
-                            attempts: attempt,
-                            last_failure: reason,
-                        });
-                    }
-                    std::thread::sleep(backoff_delay(
-                        self.config.backoff_initial(),
-                        self.config.backoff_max(),
-                        attempt,
-                        &body.digest,
-                        retry_after,
-                    ));
-                    attempt += 1;
-                }
-            }
-        }
+            },
+            |_| {},
+            |error| gave_up(purpose, error),
+        )?;
+        Ok(self.answer(response, request, body.digest, cost_usd, attempts))
     }
 
     fn cost(&self, usage: &Usage) -> f64 {
@@ -276,114 +275,99 @@ impl LvlmClient {
         }
     }
 
-    /// One HTTP attempt.
-    fn attempt(&self, body_json: &str, purpose: &str) -> Attempt {
-        let url = format!(
-            "{}{COMPLETIONS_PATH}",
-            self.config.base_url.trim_end_matches('/')
-        );
+    /// One HTTP attempt, judged: an answer, a transient failure (retried), or an error.
+    fn attempt(
+        &self,
+        url: &str,
+        body_json: &str,
+        purpose: &str,
+        time_left: Option<Duration>,
+    ) -> Attempt {
         let mut builder = self
-            .agent
-            .post(&url)
-            .header("Content-Type", "application/json");
+            .http
+            .inner()
+            .post(url)
+            .header("Content-Type", "application/json")
+            .body(body_json.to_owned());
         if let Some(key) = &self.config.api_key {
             builder = builder.header("Authorization", format!("Bearer {key}"));
         }
-        let mut response = match builder.send(body_json) {
-            Ok(response) => response,
-            Err(error) => return self.transport_failure(&error),
+        let reply = match self.http.exchange(builder, time_left) {
+            Ok(reply) => reply,
+            Err(failure) => return self.transport_failure(failure),
         };
-        let status = response.status().as_u16();
-        let retry_after = retry_after(response.headers());
-        let body = match response
-            .body_mut()
-            .with_config()
-            .limit(MAX_RESPONSE_BYTES)
-            .read_to_string()
-        {
-            Ok(body) => body,
-            Err(error) => {
-                let failure = self.transport_failure(&error);
-                return match failure {
-                    Attempt::Retry { reason, .. } => Attempt::Retry {
-                        reason: format!("HTTP {status}, body unreadable: {reason}"),
-                        retry_after,
-                        usage: None,
-                    },
-                    other => other,
-                };
-            }
-        };
-        match status {
-            200..=299 => match parse_inner(&body) {
+        let (status, body) = (reply.status, reply.body.as_str());
+        match status_class(status) {
+            None => match parse_inner(body) {
                 Ok(response) => Attempt::Answer(response),
                 Err(Failure::Malformed(what)) => Attempt::Retry {
-                    reason: format!("malformed response: {what}"),
-                    retry_after: None,
-                    usage: usage_of(&body),
+                    failure: HttpFailure::body(format!("malformed response: {what}")).transient(),
+                    usage: usage_of(body),
                 },
                 Err(Failure::Refused(message)) => Attempt::Fail {
                     error: LvlmError::ModelRefused {
                         purpose: purpose.to_owned(),
                         message,
                     },
-                    usage: usage_of(&body),
+                    usage: usage_of(body),
                 },
             },
-            408 | 409 | 429 | 500..=599 => Attempt::Retry {
-                reason: format!("HTTP {status}: {}", server_message(&body)),
-                retry_after,
+            Some(Class::Transient) => Attempt::Retry {
+                failure: HttpFailure::status(status, server_message(body), reply.retry_after),
                 usage: None,
             },
-            401 | 403 => Attempt::Fail {
+            Some(Class::Permanent) if matches!(status, 401 | 403) => Attempt::Fail {
                 error: LvlmError::Unauthorized {
                     status,
-                    message: server_message(&body),
+                    message: server_message(body),
                     key_variable: API_KEY_VARIABLE,
                 },
                 usage: None,
             },
-            _ => Attempt::Fail {
+            Some(Class::Permanent) => Attempt::Fail {
                 error: LvlmError::Refused {
                     purpose: purpose.to_owned(),
                     status,
-                    message: server_message(&body),
+                    message: server_message(body),
                 },
                 usage: None,
             },
         }
     }
 
-    fn transport_failure(&self, error: &ureq::Error) -> Attempt {
-        let reason = match error {
-            ureq::Error::Timeout(which) => format!(
-                "timed out ({which}) after request_timeout_secs = {} s",
-                self.config.request_timeout_secs
-            ),
-            ureq::Error::Io(io) if io.kind() == std::io::ErrorKind::TimedOut => format!(
-                "timed out after request_timeout_secs = {} s",
-                self.config.request_timeout_secs
-            ),
-            ureq::Error::BadUri(uri) => {
-                return Attempt::Fail {
-                    error: LvlmError::InvalidConfig {
-                        name: "base_url",
-                        value: uri.clone(),
-                        expected: "a valid http:// URL",
-                    },
+    /// A failure before an answer was read whole: transient ones (connection, timeout,
+    /// interrupted) are retried; a bad URL and an oversized body are not.
+    fn transport_failure(&self, failure: HttpFailure) -> Attempt {
+        let error = match failure.kind {
+            _ if failure.is_transient() => {
+                return Attempt::Retry {
+                    failure,
                     usage: None,
                 };
             }
-            ureq::Error::BodyExceedsLimit(limit) => {
-                format!("the response body exceeds {limit} bytes")
-            }
-            other => format!("cannot reach {}: {other}", self.config.base_url),
+            FailureKind::Unsendable => LvlmError::InvalidConfig {
+                name: "base_url",
+                value: self.config.base_url.clone(),
+                expected: "a valid http:// URL",
+            },
+            _ => LvlmError::Malformed {
+                what: failure.to_string(),
+            },
         };
-        Attempt::Retry {
-            reason,
-            retry_after: None,
-            usage: None,
-        }
+        Attempt::Fail { error, usage: None }
+    }
+}
+
+/// The error of a request whose every allowed attempt failed transiently.
+fn gave_up(purpose: &str, error: HttpError) -> LvlmError {
+    let (attempts, last_failure) = match error {
+        HttpError::GaveUp { attempts, last, .. } => (attempts, last.to_string()),
+        other => (0, other.to_string()),
+    };
+    LvlmError::GaveUp {
+        purpose: purpose.to_owned(),
+        attempts,
+        last_failure,
     }
 }
 
@@ -398,22 +382,6 @@ fn estimated_usage(request: &ChatRequest, text: &str) -> Usage {
     }
 }
 
-/// The server's requested wait: `retry-after-ms` (milliseconds) or `retry-after` (seconds;
-/// HTTP dates are ignored).
-fn retry_after(headers: &ureq::http::HeaderMap) -> Option<Duration> {
-    let number = |name: &str| {
-        headers
-            .get(name)
-            .and_then(|v| v.to_str().ok())
-            .and_then(|v| v.trim().parse::<f64>().ok())
-            .filter(|v| v.is_finite() && *v >= 0.0)
-    };
-    number("retry-after-ms")
-        .map(|ms| ms / 1000.0)
-        .or_else(|| number("retry-after"))
-        .and_then(|secs| Duration::try_from_secs_f64(secs).ok())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -425,22 +393,6 @@ mod tests {
     fn the_client_is_shareable_between_threads() {
         assert_send_sync::<LvlmClient>();
         assert_send_sync::<CostLedger>();
-    }
-
-    #[test]
-    fn retry_after_reads_seconds_and_milliseconds() {
-        let mut headers = ureq::http::HeaderMap::new();
-        assert_eq!(retry_after(&headers), None);
-        headers.insert("retry-after", "2".parse().unwrap());
-        assert_eq!(retry_after(&headers), Some(Duration::from_secs(2)));
-        headers.insert("retry-after-ms", "250".parse().unwrap());
-        assert_eq!(retry_after(&headers), Some(Duration::from_millis(250)));
-        let mut dated = ureq::http::HeaderMap::new();
-        dated.insert(
-            "retry-after",
-            "Wed, 21 Oct 2015 07:28:00 GMT".parse().unwrap(),
-        );
-        assert_eq!(retry_after(&dated), None);
     }
 
     #[test]

@@ -40,8 +40,8 @@ impl Pricing {
 #[derive(Clone, PartialEq)]
 pub struct LvlmConfig {
     /// Server base URL including the API prefix, e.g. `http://vllm:8000/v1`; the client posts
-    /// to `{base_url}/chat/completions`. Plain HTTP only (this build has no TLS): reach hosted
-    /// APIs through an in-cluster gateway. Default `http://127.0.0.1:8000/v1`.
+    /// to `{base_url}/chat/completions`. Plain HTTP only: reach hosted APIs through an
+    /// in-cluster gateway. Default `http://127.0.0.1:8000/v1`.
     pub base_url: String,
     /// Model name sent with every request. Default `gpt-5`.
     pub model: String,
@@ -54,13 +54,14 @@ pub struct LvlmConfig {
     pub max_completion_tokens: Option<u32>,
     /// Limit on establishing a connection. Default 10 s.
     pub connect_timeout_secs: f64,
-    /// Limit on one attempt, connect to last byte. Default 120 s.
+    /// Limit on one attempt, sending to last byte read. Default 120 s.
     pub request_timeout_secs: f64,
     /// Attempts per request, the first included. Default 4.
     pub max_attempts: u32,
     /// Wait before the second attempt, doubled for each further one (with jitter). Default 1 s.
     pub backoff_initial_secs: f64,
-    /// Longest wait between attempts; also caps a server's `Retry-After`. Default 30 s.
+    /// Longest wait between attempts; also caps a server's `Retry-After` (honoured on 429 and
+    /// 503). Default 30 s.
     pub backoff_max_secs: f64,
     /// Most requests in flight from this client at once. Default 8.
     pub max_concurrency: usize,
@@ -123,7 +124,7 @@ impl LvlmConfig {
             return invalid(
                 "base_url",
                 self.base_url.clone(),
-                "an http:// URL (this build has no TLS: use an in-cluster gateway for https APIs)",
+                "an http:// URL (the LVLM client speaks plain HTTP: use an in-cluster gateway for https APIs)",
             );
         }
         if self.model.trim().is_empty() {

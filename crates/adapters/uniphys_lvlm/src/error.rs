@@ -46,7 +46,8 @@ pub enum LvlmError {
         /// The environment variable the key is conventionally read from.
         key_variable: &'static str,
     },
-    /// The server refused the request (a 4xx that retrying would not change).
+    /// The server refused the request (a status retrying would not change: a 4xx other than
+    /// 408/425/429, or 501, 505 and up).
     #[error(
         "the LVLM server refused the {purpose} request with HTTP {status}: {message}; check the model name, the base URL and the request options"
     )]
@@ -66,7 +67,8 @@ pub enum LvlmError {
         /// The model's refusal text.
         message: String,
     },
-    /// Every attempt failed with a retryable error (429, 5xx, timeout, connection, bad body).
+    /// Every attempt failed with a retryable error (408, 425, 429, 500, 502, 503, 504, timeout,
+    /// connection, truncated or malformed body).
     #[error(
         "LVLM {purpose} request failed after {attempts} attempt(s); last failure: {last_failure}; check that the server at the configured base URL is up and not overloaded, or raise max_attempts / request_timeout_secs"
     )]

@@ -1,7 +1,9 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use ureq::Agent;
+use uniphys_http::{
+    Failure, FailureKind, HttpClient, HttpConfig, HttpError, RetryPolicy, Step, excerpt,
+};
 
 use crate::contract::{
     CloudInput, ObjectAnswer, PREDICT_PATH, PartAnswer, PartInput, PartPosition, PredictRequest,
@@ -18,12 +20,14 @@ const MAX_RESPONSE_BYTES: u64 = 16 * 1024 * 1024;
 pub struct ClientConfig {
     /// Server base URL, e.g. `http://gpu-1:8000` (the client posts to `<base>/v1/predict`).
     pub base_url: String,
-    /// Limit on one HTTP attempt, connect to last byte. Timeouts are not retried: a request that
-    /// took the whole budget would likely take it again and hold a GPU slot meanwhile.
+    /// Limit on one HTTP attempt, connect to last byte. A timed-out attempt is retried like any
+    /// transient failure (the shared policy); the GPU slot is released during the wait.
     pub timeout: Duration,
-    /// Attempts per request, the first included (connect errors, 429 and 5xx are retried).
+    /// Attempts per request, the first included (connect errors, timeouts, 408, 425, 429, 500,
+    /// 502, 503 and 504 are retried).
     pub max_attempts: u32,
-    /// Wait before the second attempt; doubled for each further one.
+    /// Wait before the second attempt; doubled for each further one (less up to half of it,
+    /// jitter).
     pub initial_backoff: Duration,
     /// Longest wait between attempts; also caps a server's `Retry-After`.
     pub max_backoff: Duration,
@@ -60,7 +64,8 @@ pub struct PartAnswers {
 /// exponential backoff, batches parts, and takes a GPU slot around each attempt.
 pub struct UniPhysGenClient {
     config: ClientConfig,
-    agent: Agent,
+    http: HttpClient,
+    policy: RetryPolicy,
     limiter: Arc<dyn SlotLimiter>,
 }
 
@@ -70,16 +75,6 @@ impl std::fmt::Debug for UniPhysGenClient {
             .field("config", &self.config)
             .finish_non_exhaustive()
     }
-}
-
-/// What one attempt came to.
-enum Outcome {
-    Answer(String),
-    Retry {
-        reason: String,
-        retry_after: Option<Duration>,
-    },
-    Fail(UniPhysGenError),
 }
 
 impl UniPhysGenClient {
@@ -113,14 +108,32 @@ impl UniPhysGenClient {
                 expected: "at least 1",
             });
         }
-        let agent = Agent::config_builder()
-            .timeout_global(Some(config.timeout))
-            .http_status_as_error(false)
-            .build()
-            .new_agent();
+        let http = HttpClient::new(HttpConfig {
+            connect_timeout: config.timeout,
+            attempt_timeout: config.timeout,
+            max_response_bytes: MAX_RESPONSE_BYTES,
+            user_agent: "uniphys-uniphysgen".to_owned(),
+            ..HttpConfig::default()
+        })
+        .map_err(|error| UniPhysGenError::InvalidOption {
+            name: "timeout",
+            value: format!("{:?}", config.timeout),
+            expected: match error {
+                HttpError::InvalidOption { expected, .. } => expected,
+                _ => "settings the HTTP client accepts",
+            },
+        })?;
+        let policy = RetryPolicy {
+            max_attempts: config.max_attempts,
+            base_delay: config.initial_backoff,
+            max_delay: config.max_backoff,
+            jitter_fraction: 0.5,
+            deadline: None,
+        };
         Ok(Self {
             config,
-            agent,
+            http,
+            policy,
             limiter,
         })
     }
@@ -238,112 +251,99 @@ impl UniPhysGenClient {
         Ok((response.model, object))
     }
 
-    /// Sends one request, retrying connect errors, 429 and 5xx with exponential backoff (or the
-    /// server's `Retry-After`), and checks that the answer is for this task and sample.
+    /// Sends one request under the shared retry policy (connect errors, timeouts, 408, 425,
+    /// 429, 500, 502, 503 and 504 retried with jittered exponential backoff, or the server's
+    /// `Retry-After` on 429/503), taking a GPU slot around each attempt, and checks that the
+    /// answer is for this task and sample.
     ///
     /// # Errors
-    /// [`UniPhysGenError::GaveUp`], [`UniPhysGenError::Timeout`],
-    /// [`UniPhysGenError::Refused`], [`UniPhysGenError::MalformedResponse`] or
-    /// [`UniPhysGenError::NoSlot`].
+    /// [`UniPhysGenError::GaveUp`], [`UniPhysGenError::Timeout`] (every attempt allowed, the
+    /// last one timed out), [`UniPhysGenError::Refused`],
+    /// [`UniPhysGenError::MalformedResponse`] or [`UniPhysGenError::NoSlot`].
     pub fn predict(&self, request: &PredictRequest) -> UniPhysGenResult<PredictResponse> {
-        let mut attempt = 1;
-        loop {
-            let outcome = {
-                let _slot = SlotGuard::take(self.limiter.as_ref(), self.config.slot_wait)?;
-                self.attempt(request)
-            };
-            match outcome {
-                Outcome::Answer(body) => return self.parse(request, &body),
-                Outcome::Fail(error) => return Err(error),
-                Outcome::Retry {
-                    reason,
-                    retry_after,
-                } => {
-                    if attempt >= self.config.max_attempts {
-                        return Err(UniPhysGenError::GaveUp {
-                            task: request.task.to_string(),
-                            sample_id: request.sample_id.clone(),
-                            attempts: attempt,
-                            reason,
-                        });
-                    }
-                    std::thread::sleep(self.backoff(attempt, retry_after));
-                    attempt += 1;
-                }
-            }
-        }
-    }
-
-    /// Wait after failed attempt `attempt` (1-based): `Retry-After` if the server sent one,
-    /// else `initial_backoff * 2^(attempt - 1)`; at most `max_backoff` either way.
-    #[must_use]
-    pub fn backoff(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
-        let exponential = || {
-            let factor = 2u32.saturating_pow(attempt.saturating_sub(1).min(30));
-            self.config.initial_backoff.saturating_mul(factor)
-        };
-        retry_after
-            .unwrap_or_else(exponential)
-            .min(self.config.max_backoff)
-    }
-
-    fn attempt(&self, request: &PredictRequest) -> Outcome {
+        let body = serde_json::to_vec(request).map_err(|error| UniPhysGenError::InvalidOption {
+            name: "request",
+            value: error.to_string(),
+            expected: "a request that encodes as JSON",
+        })?;
         let url = format!(
             "{}{PREDICT_PATH}",
             self.config.base_url.trim_end_matches('/')
         );
-        let response = self.agent.post(&url).send_json(request);
-        let mut response = match response {
-            Ok(response) => response,
-            Err(error) => return self.transport_outcome(request, error),
-        };
-        let status = response.status().as_u16();
-        let retry_after = response
-            .headers()
-            .get("retry-after")
-            .and_then(|v| v.to_str().ok())
-            .and_then(|v| v.trim().parse::<u64>().ok())
-            .map(Duration::from_secs);
-        let body = match response
-            .body_mut()
-            .with_config()
-            .limit(MAX_RESPONSE_BYTES)
-            .read_to_string()
-        {
-            Ok(body) => body,
-            Err(error) => return self.transport_outcome(request, error),
-        };
-        match status {
-            200..=299 => Outcome::Answer(body),
-            429 | 500..=599 => Outcome::Retry {
-                reason: format!("HTTP {status}: {}", excerpt(&body)),
-                retry_after,
+        let answer = self.policy.run(
+            &body,
+            |attempt| {
+                let _slot = match SlotGuard::take(self.limiter.as_ref(), self.config.slot_wait) {
+                    Ok(slot) => slot,
+                    Err(error) => return Step::Stop(error),
+                };
+                let http_request = self
+                    .http
+                    .inner()
+                    .post(&url)
+                    .header("content-type", "application/json")
+                    .body(body.clone());
+                match self.http.send(http_request, attempt.time_left) {
+                    Ok(reply) => Step::Done(reply.body),
+                    Err(failure) if failure.is_transient() => Step::Retry(failure),
+                    Err(failure) => Step::Stop(self.refused(request, failure)),
+                }
             },
-            _ => Outcome::Fail(UniPhysGenError::Refused {
+            |_| {},
+            |error| self.gave_up(request, error),
+        )?;
+        self.parse(request, &answer)
+    }
+
+    /// The longest wait after failed attempt `attempt` (1-based): `Retry-After` if the server
+    /// sent one (429 and 503), else `initial_backoff * 2^(attempt - 1)`; at most `max_backoff`
+    /// either way. Without `Retry-After` the client waits between half of it and all of it
+    /// (jitter; `uniphys_http::RetryPolicy`).
+    #[must_use]
+    pub fn backoff(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
+        self.policy.longest_wait(attempt, retry_after)
+    }
+
+    /// The error of a failure retrying would not change.
+    fn refused(&self, request: &PredictRequest, failure: Failure) -> UniPhysGenError {
+        match (failure.kind, failure.status) {
+            (FailureKind::Status, Some(status)) => UniPhysGenError::Refused {
                 task: request.task.to_string(),
                 sample_id: request.sample_id.clone(),
                 status,
-                body: excerpt(&body),
-            }),
+                body: excerpt(&failure.detail, 200),
+            },
+            _ => UniPhysGenError::MalformedResponse {
+                task: request.task.to_string(),
+                sample_id: request.sample_id.clone(),
+                reason: failure.to_string(),
+            },
         }
     }
 
-    fn transport_outcome(&self, request: &PredictRequest, error: ureq::Error) -> Outcome {
-        let timed_out = match &error {
-            ureq::Error::Timeout(_) => true,
-            ureq::Error::Io(io) => io.kind() == std::io::ErrorKind::TimedOut,
-            _ => false,
-        };
-        if timed_out {
-            return Outcome::Fail(UniPhysGenError::Timeout {
+    /// The error of a request that ran out of attempts: a timeout if the last attempt timed
+    /// out, else what the last failure was.
+    fn gave_up(&self, request: &PredictRequest, error: HttpError) -> UniPhysGenError {
+        match error {
+            HttpError::GaveUp { last, .. } if last.kind == FailureKind::Timeout => {
+                UniPhysGenError::Timeout {
+                    task: request.task.to_string(),
+                    sample_id: request.sample_id.clone(),
+                    timeout: self.config.timeout,
+                }
+            }
+            HttpError::GaveUp { attempts, last, .. } => UniPhysGenError::GaveUp {
                 task: request.task.to_string(),
                 sample_id: request.sample_id.clone(),
-                timeout: self.config.timeout,
-            });
-        }
-        Outcome::Retry {
-            reason: format!("cannot reach {}: {error}", self.config.base_url),
-            retry_after: None,
+                attempts,
+                reason: last.to_string(),
+            },
+            other => UniPhysGenError::GaveUp {
+                task: request.task.to_string(),
+                sample_id: request.sample_id.clone(),
+                attempts: 0,
+                reason: other.to_string(),
+            },
         }
     }
 
@@ -370,15 +370,6 @@ impl UniPhysGenClient {
 
 fn round4(x: f64) -> f64 {
     (x * 1e4).round() / 1e4
-}
-
-fn excerpt(body: &str) -> String {
-    let text: String = body.chars().take(200).collect();
-    if text.len() < body.len() {
-        format!("{text}...")
-    } else {
-        text
-    }
 }
 
 #[cfg(test)]

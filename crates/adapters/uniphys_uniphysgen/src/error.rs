@@ -37,7 +37,8 @@ pub enum UniPhysGenError {
         /// The last failure.
         reason: String,
     },
-    /// The model server did not answer within the request timeout.
+    /// The model server did not answer within the request timeout, on the last attempt allowed
+    /// (timeouts are retried like other transient failures).
     #[error(
         "UniPhysGen {task} request for sample {sample_id:?} timed out after {timeout:?}; raise the client timeout or check the model server's load"
     )]
@@ -49,7 +50,8 @@ pub enum UniPhysGenError {
         /// The timeout that expired.
         timeout: Duration,
     },
-    /// The server refused the request (4xx other than 429): retrying would not help.
+    /// The server refused the request (a status other than 408, 425, 429, 500, 502, 503, 504):
+    /// retrying would not help.
     #[error(
         "UniPhysGen {task} request for sample {sample_id:?} was refused with HTTP {status}: {body}; the request does not match the server's contract (proto/uniphysgen/v1)"
     )]

@@ -177,20 +177,45 @@ fn persistent_500s_give_up_after_max_attempts_with_a_clear_error() {
 }
 
 #[test]
-fn a_slow_server_times_out_without_retrying() {
+fn a_slow_answer_times_out_and_is_retried() {
+    // The shared retry policy retries timeouts (this client used to fail at the first one).
     let server = TestServer::start().unwrap();
     let client = client(&server, |c| c.timeout = Duration::from_millis(300));
     let start = Instant::now();
-    let error = client
+    let answers = client
         .predict_parts(Task::Physics, "s#slow3000x1", &inputs(1))
+        .unwrap();
+    assert_eq!(answers.parts.len(), 2);
+    assert!(
+        start.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        start.elapsed()
+    );
+    assert_eq!(server.predict_requests(), 2);
+}
+
+#[test]
+fn a_server_slow_on_every_attempt_times_out_after_max_attempts() {
+    let server = TestServer::start().unwrap();
+    let client = client(&server, |c| {
+        c.timeout = Duration::from_millis(300);
+        c.max_attempts = 2;
+    });
+    let start = Instant::now();
+    let error = client
+        .predict_parts(Task::Physics, "s#slow3000x9", &inputs(1))
         .unwrap_err();
     assert!(
         matches!(error, UniPhysGenError::Timeout { .. }),
         "{error:?}"
     );
     assert!(error.to_string().contains("timed out"), "{error}");
-    assert!(start.elapsed() < Duration::from_secs(2));
-    assert_eq!(server.predict_requests(), 1);
+    assert!(
+        start.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        start.elapsed()
+    );
+    assert_eq!(server.predict_requests(), 2);
 }
 
 #[test]

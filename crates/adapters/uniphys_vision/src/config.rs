@@ -1,5 +1,7 @@
 use std::time::Duration;
 
+use uniphys_http::RetryPolicy;
+
 use crate::{VisionError, VisionResult};
 
 /// Settings shared by [`crate::SamClient`] and [`crate::PartFieldClient`].
@@ -9,11 +11,12 @@ pub struct ClientConfig {
     pub base_url: String,
     /// Limit on opening the TCP connection.
     pub connect_timeout: Duration,
-    /// Limit on one attempt, connect to last byte. A timed-out attempt is retried.
+    /// Limit on one attempt, sending to last byte read. A timed-out attempt is retried.
     pub request_timeout: Duration,
     /// Attempts per request, the first included.
     pub max_attempts: u32,
-    /// Wait before the second attempt; doubled for each further one.
+    /// Wait before the second attempt; doubled for each further one (less up to half of it,
+    /// jitter).
     pub initial_backoff: Duration,
     /// Longest wait between attempts; also caps a server's `Retry-After`.
     pub max_backoff: Duration,
@@ -80,17 +83,26 @@ impl ClientConfig {
         Ok(())
     }
 
-    /// Wait after failed attempt `attempt` (1-based): the server's `Retry-After` if it sent
-    /// one, else `initial_backoff * 2^(attempt - 1)`; at most `max_backoff` either way.
+    /// The longest wait after failed attempt `attempt` (1-based): the server's `Retry-After` if
+    /// it sent one (429 and 503), else `initial_backoff * 2^(attempt - 1)`; at most
+    /// `max_backoff` either way. Without `Retry-After` the client waits between half of it and
+    /// all of it (jitter; `uniphys_http::RetryPolicy`).
     #[must_use]
     pub fn backoff(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
-        let exponential = || {
-            let factor = 2u32.saturating_pow(attempt.saturating_sub(1).min(30));
-            self.initial_backoff.saturating_mul(factor)
-        };
-        retry_after
-            .unwrap_or_else(exponential)
-            .min(self.max_backoff)
+        self.retry_policy().longest_wait(attempt, retry_after)
+    }
+
+    /// These settings as the shared retry policy (half of each backoff jitter, no deadline
+    /// beyond the attempts).
+    #[must_use]
+    pub fn retry_policy(&self) -> RetryPolicy {
+        RetryPolicy {
+            max_attempts: self.max_attempts,
+            base_delay: self.initial_backoff,
+            max_delay: self.max_backoff,
+            jitter_fraction: 0.5,
+            deadline: None,
+        }
     }
 }
 

@@ -24,8 +24,8 @@ pub enum VisionError {
         /// What is wrong with the input.
         reason: String,
     },
-    /// Every attempt failed with a retryable error (connection, timeout, 429, 5xx, truncated
-    /// or malformed body).
+    /// Every attempt failed with a retryable error (connection, timeout, 408, 425, 429, 500,
+    /// 502, 503, 504, truncated or malformed body).
     #[error(
         "{service} request {path} failed after {attempts} attempt(s): {reason}; check that the service at {base_url} is up"
     )]
@@ -41,7 +41,8 @@ pub enum VisionError {
         /// The last failure.
         reason: String,
     },
-    /// The service refused the request with a 4xx other than 429: retrying would not help.
+    /// The service refused the request with a status retrying would not change (a 4xx other
+    /// than 408/425/429, or 501, 505 and up).
     #[error("{service} request {path} was refused with HTTP {status}: {message}")]
     Refused {
         /// Service name.
@@ -64,7 +65,8 @@ pub enum VisionError {
         /// What is wrong with it.
         reason: String,
     },
-    /// The HTTP client failed in a way retrying cannot fix (bad URL, unsupported scheme).
+    /// The HTTP client failed in a way retrying cannot fix (bad URL, unsupported scheme, an
+    /// answer larger than `max_response_bytes`).
     #[error("{service} request to {url} cannot be sent: {reason}")]
     Transport {
         /// Service name.

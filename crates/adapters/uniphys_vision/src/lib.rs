@@ -1,11 +1,12 @@
-//! Blocking clients of the external vision model services, over HTTP (`ureq`):
+//! Blocking clients of the external vision model services, over HTTP (`uniphys_http`):
 //! a SAM-compatible automatic mask service ([`SamClient`]) and a PartField-compatible per-face
 //! feature service ([`PartFieldClient`]). The contract is `proto/vision.openapi.yaml`; its wire
 //! types are in [`contract`].
 //!
-//! Both clients retry connection errors, timeouts, 429, 5xx and truncated or malformed JSON
-//! bodies with exponential backoff (a `Retry-After` on 429/503 is honoured, capped); other
-//! 4xx are not retried and the error carries the server's message. Answers are checked against
+//! Both clients follow the shared retry policy (`uniphys_http`): connection errors, timeouts,
+//! 408/425/429/500/502/503/504 and truncated answers, and here also bodies that are not JSON,
+//! are retried with jittered exponential backoff (a `Retry-After` on 429/503 is honoured,
+//! capped); other statuses are not retried and the error carries the server's message. Answers are checked against
 //! the request (mask sizes and RLE sums, feature count, finite values) before they are returned.
 
 mod config;
