@@ -175,16 +175,8 @@ impl LvlmError {
     }
 }
 
-/// The first `max_chars` characters of `text`, with `...` when cut.
-pub(crate) fn excerpt(text: &str, max_chars: usize) -> String {
-    let mut chars = text.chars();
-    let head: String = chars.by_ref().take(max_chars).collect();
-    if chars.next().is_some() {
-        format!("{head}...")
-    } else {
-        head
-    }
-}
+/// The first `max_chars` characters of `text`, with `...` when cut (the shared client's).
+pub(crate) use uniphys_http::excerpt;
 
 /// The last `max_chars` characters of `text`, with `...` in front when cut.
 pub(crate) fn tail_excerpt(text: &str, max_chars: usize) -> String {
