@@ -362,6 +362,7 @@ pub fn decompose(
         pieces: pieces.pieces,
         pieces_made_whole: pieces.pieces_made_whole,
         controls_kept: pieces.controls_kept,
+        parts_split_in_two: pieces.parts_split_in_two,
         hidden_parts_merged,
         one_part_reason,
         final_parts: part_count,

@@ -77,6 +77,9 @@ pub struct DecomposeSummary {
     pub pieces_made_whole: usize,
     /// Small compact pieces (knobs, buttons) split off the larger part they had been merged into.
     pub controls_kept: usize,
+    /// Parts made of two big pieces side by side (a laptop's screen and base) split in two.
+    #[serde(default)]
+    pub parts_split_in_two: usize,
     /// Parts hidden inside the object when it is closed (unreachable, so not operable), merged
     /// into the largest part.
     #[serde(default)]

@@ -80,6 +80,8 @@ pub struct PieceReport {
     pub pieces_made_whole: usize,
     /// Small compact pieces split off the part they had been merged into.
     pub controls_kept: usize,
+    /// Parts of two big pieces side by side split in two (a laptop's screen and base).
+    pub parts_split_in_two: usize,
 }
 
 /// Connected pieces of `mesh`: the piece of every face (numbered by smallest face) and the count.
@@ -225,7 +227,8 @@ pub fn respect_pieces(
             }
         }
     }
-    let parts = split_two_big_pieces(mesh, &mut labels, parts, &piece, &face_area_m2);
+    let (parts, split) = split_two_big_pieces(mesh, &mut labels, parts, &piece, &face_area_m2);
+    report.parts_split_in_two = split;
     let mut part_area_m2 = vec![0.0f64; parts];
     for (f, &p) in labels.iter().enumerate() {
         part_area_m2[p as usize] += face_area_m2[f];
@@ -408,16 +411,18 @@ impl Shape {
 /// A piece holding at least this share of its part's area is big ...
 const BIG_PIECE_SHARE: f64 = 0.25;
 
-/// Splits a part made of exactly two big whole pieces (and dust) into two: a laptop's screen
-/// and base, or a lid and its box, each modelled as one piece and merged by the views, since
-/// one piece is one thing and two big ones are likely two. Returns the new part count.
+/// Splits a part holding exactly two big pieces (each [`BIG_PIECE_SHARE`] of its area or more),
+/// neither inside the other's box, in two: the smaller big piece becomes a part of its own, the
+/// rest stays (a laptop's screen and base, each modelled as one piece and merged by the views:
+/// one piece is one thing, two big ones side by side likely two). Only the faces of the piece
+/// in that part move. Returns the new part count and how many parts were split.
 fn split_two_big_pieces(
     mesh: &TriMesh,
     labels: &mut [u32],
     parts: usize,
     piece: &[u32],
     face_area_m2: &[f64],
-) -> usize {
+) -> (usize, usize) {
     let mut area = vec![std::collections::HashMap::<u32, f64>::new(); parts];
     let mut part_m2 = vec![0.0f64; parts];
     for (f, (&l, &q)) in labels.iter().zip(piece).enumerate() {
@@ -425,7 +430,8 @@ fn split_two_big_pieces(
         part_m2[l as usize] += face_area_m2[f];
     }
     let mut next = u32::try_from(parts).unwrap_or(u32::MAX);
-    let mut moved: Vec<(u32, u32)> = Vec::new();
+    // (part, piece, new part)
+    let mut moved: Vec<(u32, u32, u32)> = Vec::new();
     for (p, by_piece) in area.iter().enumerate() {
         let big: Vec<(u32, f64)> = by_piece
             .iter()
@@ -439,17 +445,20 @@ fn split_two_big_pieces(
                 (big[0].0, big[1].0)
             };
             if !nested(mesh, piece, smaller, larger) {
-                moved.push((smaller, next));
+                moved.push((u32::try_from(p).unwrap_or(u32::MAX), smaller, next));
                 next += 1;
             }
         }
     }
     for (l, &q) in labels.iter_mut().zip(piece) {
-        if let Some(&(_, to)) = moved.iter().find(|(from, _)| *from == q) {
+        if let Some(&(_, _, to)) = moved
+            .iter()
+            .find(|(part, from, _)| *part == *l && *from == q)
+        {
             *l = to;
         }
     }
-    next as usize
+    (next as usize, moved.len())
 }
 
 /// A piece is nested in another when at least this share of its area lies inside the other's
@@ -535,8 +544,9 @@ mod tests {
             (DVec3::ZERO, DVec3::new(1.0, 0.7, 0.04)),
             (DVec3::new(0.02, 0.66, 0.04), DVec3::new(0.98, 0.7, 0.7)),
         ]);
-        let (labels, count, _) = respect_pieces(&laptop, &[0; 24], &PieceOptions::default());
+        let (labels, count, report) = respect_pieces(&laptop, &[0; 24], &PieceOptions::default());
         assert_eq!(count, 2, "{labels:?}");
+        assert_eq!(report.parts_split_in_two, 1);
         assert!(labels[..12].iter().all(|&l| l == labels[0]));
         assert!(labels[12..].iter().all(|&l| l != labels[0]));
         // A shell with a liner inside it: one rigid body of two pieces.
