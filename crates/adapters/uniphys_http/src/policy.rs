@@ -36,6 +36,19 @@ impl Default for RetryPolicy {
 }
 
 impl RetryPolicy {
+    /// `max_attempts` with backoff from `base_delay` doubling to at most `max_delay`, half of
+    /// each backoff jitter, no deadline: the policy the model-service clients build from their
+    /// settings.
+    #[must_use]
+    pub fn exponential(max_attempts: u32, base_delay: Duration, max_delay: Duration) -> Self {
+        Self {
+            max_attempts,
+            base_delay,
+            max_delay,
+            ..Self::default()
+        }
+    }
+
     /// Checks the settings.
     ///
     /// # Errors

@@ -17,19 +17,7 @@ pub fn backoff_delay(
     digest: &str,
     retry_after: Option<Duration>,
 ) -> Duration {
-    retry_policy(initial, max, 1).delay(attempt, digest.as_bytes(), retry_after)
-}
-
-/// The shared retry policy with these settings: `max_attempts`, backoff from `initial` to at
-/// most `max` (which also caps `Retry-After`), half of each backoff jitter, no deadline.
-pub(crate) fn retry_policy(initial: Duration, max: Duration, max_attempts: u32) -> RetryPolicy {
-    RetryPolicy {
-        max_attempts,
-        base_delay: initial,
-        max_delay: max,
-        jitter_fraction: 0.5,
-        deadline: None,
-    }
+    RetryPolicy::exponential(1, initial, max).delay(attempt, digest.as_bytes(), retry_after)
 }
 
 #[cfg(test)]

@@ -6,7 +6,6 @@ use uniphys_http::{
     Step, status_class,
 };
 
-use crate::backoff::retry_policy;
 use crate::ledger::estimate_cost_usd;
 use crate::response::{Failure, parse_inner, server_message, usage_of};
 use crate::{
@@ -103,10 +102,10 @@ impl LvlmClient {
             value: error.to_string(),
             expected: "settings the HTTP client accepts",
         })?;
-        let policy = retry_policy(
+        let policy = RetryPolicy::exponential(
+            config.max_attempts,
             config.backoff_initial(),
             config.backoff_max(),
-            config.max_attempts,
         );
         let permits = Permits::new(config.max_concurrency);
         Ok(Self {

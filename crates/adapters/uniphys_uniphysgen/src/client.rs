@@ -123,13 +123,11 @@ impl UniPhysGenClient {
                 _ => "settings the HTTP client accepts",
             },
         })?;
-        let policy = RetryPolicy {
-            max_attempts: config.max_attempts,
-            base_delay: config.initial_backoff,
-            max_delay: config.max_backoff,
-            jitter_fraction: 0.5,
-            deadline: None,
-        };
+        let policy = RetryPolicy::exponential(
+            config.max_attempts,
+            config.initial_backoff,
+            config.max_backoff,
+        );
         Ok(Self {
             config,
             http,

@@ -96,13 +96,7 @@ impl ClientConfig {
     /// beyond the attempts).
     #[must_use]
     pub fn retry_policy(&self) -> RetryPolicy {
-        RetryPolicy {
-            max_attempts: self.max_attempts,
-            base_delay: self.initial_backoff,
-            max_delay: self.max_backoff,
-            jitter_fraction: 0.5,
-            deadline: None,
-        }
+        RetryPolicy::exponential(self.max_attempts, self.initial_backoff, self.max_backoff)
     }
 }
 
