@@ -139,7 +139,7 @@ pub(crate) fn pushed_not_turned(
 fn face_directions(scene: &Scene, parent: usize, child_points: &[DVec3], spin: &Spin) -> usize {
     let (lo, hi) = projection_range(child_points, spin.axis);
     let (u, v) = across(spin.axis);
-    let width = extent_along(child_points, u).max(extent_along(child_points, v));
+    let width = spin.width_m;
     let tolerance = FACE_TOLERANCE_WIDTHS * width;
     if tolerance <= 0.0 {
         return 0;

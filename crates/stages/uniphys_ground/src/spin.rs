@@ -40,8 +40,10 @@ pub(crate) struct Spin {
     pub centre: DVec3,
     /// The smallest share of turned samples back on the part over the test turns.
     pub kept_fraction: f64,
-    /// The part's extent along the axis over its largest extent across it: a squat part (a
-    /// button, a dial) is low, a stub (a knob to pinch, a bottle) high.
+    /// The part's largest extent across the axis, metres.
+    pub width_m: f64,
+    /// The part's extent along the axis over [`Self::width_m`]: a squat part (a button, a dial)
+    /// is low, a stub (a knob to pinch, a bottle) high.
     pub length_over_width: f64,
 }
 
@@ -140,10 +142,12 @@ pub(crate) fn spin_axis(
     }
     let (u, v) = across(axis);
     let extent = |d: DVec3| extent_along(points, d);
+    let width_m = extent(u).max(extent(v));
     Some(Spin {
         axis,
         centre: centre_about(points, axis),
         kept_fraction: kept,
-        length_over_width: extent(axis) / extent(u).max(extent(v)).max(1e-12),
+        width_m,
+        length_over_width: extent(axis) / width_m.max(1e-12),
     })
 }
