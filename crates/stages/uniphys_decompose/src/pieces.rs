@@ -227,7 +227,8 @@ pub fn respect_pieces(
             }
         }
     }
-    let (parts, split) = split_two_big_pieces(mesh, &mut labels, parts, &piece, &face_area_m2);
+    let (parts, split) =
+        split_two_big_pieces(mesh, &mut labels, parts, &piece, &faces_of, &face_area_m2);
     report.parts_split_in_two = split;
     let mut part_area_m2 = vec![0.0f64; parts];
     for (f, &p) in labels.iter().enumerate() {
@@ -363,11 +364,7 @@ struct Shape {
 
 impl Shape {
     fn of(mesh: &TriMesh, faces: &[usize]) -> Self {
-        let points: Vec<DVec3> = faces
-            .iter()
-            .flat_map(|&f| mesh.triangles[f])
-            .map(|v| mesh.positions[v as usize])
-            .collect();
+        let points = face_vertices(mesh, faces);
         let extents_m = principal_axes(&points).map(|d| {
             let (lo, hi) = projection_range(&points, d);
             hi - lo
@@ -421,6 +418,7 @@ fn split_two_big_pieces(
     labels: &mut [u32],
     parts: usize,
     piece: &[u32],
+    faces_of: &[Vec<usize>],
     face_area_m2: &[f64],
 ) -> (usize, usize) {
     let mut area = vec![std::collections::HashMap::<u32, f64>::new(); parts];
@@ -444,7 +442,11 @@ fn split_two_big_pieces(
             } else {
                 (big[0].0, big[1].0)
             };
-            if !nested(mesh, piece, smaller, larger) {
+            if !nested(
+                mesh,
+                &faces_of[smaller as usize],
+                &faces_of[larger as usize],
+            ) {
                 moved.push((u32::try_from(p).unwrap_or(u32::MAX), smaller, next));
                 next += 1;
             }
@@ -465,19 +467,10 @@ fn split_two_big_pieces(
 /// box (its principal axes): a liner inside a shell, a shelf inside a carcass.
 const NESTED_SHARE: f64 = 0.5;
 
-/// Whether piece `inner` lies inside the box of piece `outer` (see [`NESTED_SHARE`]), judged by
-/// its faces' centres weighted by their areas.
-fn nested(mesh: &TriMesh, piece: &[u32], inner: u32, outer: u32) -> bool {
-    let faces_of = |q: u32| {
-        piece
-            .iter()
-            .enumerate()
-            .filter(move |&(_, &p)| p == q)
-            .map(|(f, _)| f)
-    };
-    let outside: Vec<DVec3> = faces_of(outer)
-        .flat_map(|f| mesh.triangles[f].map(|v| mesh.positions[v as usize]))
-        .collect();
+/// Whether the piece of faces `inner` lies inside the box of the piece of faces `outer` (see
+/// [`NESTED_SHARE`]), judged by its faces' centres weighted by their areas.
+fn nested(mesh: &TriMesh, inner: &[usize], outer: &[usize]) -> bool {
+    let outside = face_vertices(mesh, outer);
     if outside.is_empty() {
         return false;
     }
@@ -487,12 +480,8 @@ fn nested(mesh: &TriMesh, piece: &[u32], inner: u32, outer: u32) -> bool {
         .map(|&a| projection_range(&outside, a))
         .collect();
     let (mut within_m2, mut total_m2) = (0.0, 0.0);
-    for f in faces_of(inner) {
-        let centre = mesh.triangles[f]
-            .iter()
-            .map(|&v| mesh.positions[v as usize])
-            .sum::<DVec3>()
-            / 3.0;
+    for &f in inner {
+        let centre = mesh.corners(f).iter().sum::<DVec3>() / 3.0;
         let area = mesh.face_area(f);
         total_m2 += area;
         if axes
@@ -504,6 +493,15 @@ fn nested(mesh: &TriMesh, piece: &[u32], inner: u32, outer: u32) -> bool {
         }
     }
     total_m2 > 0.0 && within_m2 >= NESTED_SHARE * total_m2
+}
+
+/// The corners of `faces`, one per face corner (shared vertices repeated).
+fn face_vertices(mesh: &TriMesh, faces: &[usize]) -> Vec<DVec3> {
+    faces
+        .iter()
+        .flat_map(|&f| mesh.triangles[f])
+        .map(|v| mesh.positions[v as usize])
+        .collect()
 }
 
 #[cfg(test)]
