@@ -15,7 +15,8 @@
 //!   flush, and the sweep sees nothing stop it there), and opens at most 135 degrees from there
 //!   (past upright, where such hinges stop);
 //! - anything else (a wire such as a bucket handle, a knife's blade, a lever) turns both ways
-//!   until it collides;
+//!   until it collides; stopped both ways by one obstacle (the stops add up to a full turn), it
+//!   turns only the way that folds it into the object ([`folding_way`]);
 //! - where the free turns either way overlap, so that nothing the sweep sees stops it, the range
 //!   of the search that chose the hinge stands (checked before the two rules above).
 
@@ -39,6 +40,11 @@ const SHEET_FILL_MIN: f64 = 0.3;
 /// A panel open at rest opens this far from where it closes (135 degrees: past upright, where a
 /// laptop's or a box lid's hinge stops).
 const OPEN_FROM_CLOSED_RAD: f64 = 0.75 * PI;
+/// Poses along each way at which a part stopped by one obstacle is checked for lying within
+/// its object's box ([`folding_way`]) ...
+const FOLD_POSES: usize = 12;
+/// ... and by how much more of it one way must keep inside to be taken over the shorter way.
+const FOLD_INSIDE_MARGIN: f64 = 0.05;
 /// Angles at which a panel open at rest is tried closed onto its parent's face (2 degrees).
 const CLOSING_STEP_RAD: f64 = PI / 90.0;
 /// A panel lies on a face of its parent's box when its thin axis is within this angle of the
@@ -104,6 +110,14 @@ pub(crate) fn hinge_range(
             opens.min(OPEN_FROM_CLOSED_RAD - closes).max(0.0),
             "open at rest: closes onto its parent, opens 135 degrees from closed",
         )
+    } else if turns.one_obstacle() {
+        let (a, upper) = folding_way(scene, mover, hinge, &turns);
+        (
+            a,
+            0.0,
+            upper,
+            "stopped both ways by one obstacle: turns the way that folds it into the object",
+        )
     } else {
         let (a, up, down) = if forward >= backward {
             (axis, forward, backward)
@@ -157,6 +171,57 @@ impl FreeTurns {
     pub(crate) fn unbounded(&self) -> bool {
         self.forward + self.backward > TAU + 2.0 * self.step
     }
+
+    /// Whether the stops either way add up to a full turn: one obstacle met from both sides.
+    pub(crate) fn one_obstacle(&self) -> bool {
+        self.forward + self.backward >= TAU - 2.0 * self.step
+    }
+}
+
+/// Of the two ways a part stopped both ways by one obstacle can turn, the one that folds it into
+/// the object: along the way, more of it stays within the object's box at rest. Both ways end
+/// at the obstacle; one swings the part out and round it, the other folds it over the object (a
+/// glasses' temple folds behind the frame, not out to the side and round in front of it).
+/// Folding parts fold to keep their object compact; where a real hinge has its stop, the sweep
+/// sees nothing. Equal ways: the shorter. Returns the hinge's axis turned so that this way is
+/// positive, and how far it turns.
+pub(crate) fn folding_way(
+    scene: &Scene,
+    mover: &Mover<'_>,
+    hinge: &Joint,
+    turns: &FreeTurns,
+) -> (DVec3, f64) {
+    let axis = DVec3::from_array(hinge.axis_in_object);
+    let pivot = DVec3::from_array(hinge.pivot_in_object_m);
+    let everything: Vec<usize> = (0..scene.part_count()).collect();
+    let object = PartBox::of(&scene.points_of(&everything));
+    let moving = scene.points_of(mover.moving);
+    // The mean share of the moving samples inside the object's box over the way's poses.
+    let inside_along = |a: DVec3, angle: f64| {
+        let inside: usize = (1..=FOLD_POSES)
+            .map(|i| {
+                let turn = DQuat::from_axis_angle(a, angle * i as f64 / FOLD_POSES as f64);
+                moving
+                    .iter()
+                    .filter(|p| object.contains(pivot + turn * (**p - pivot)))
+                    .count()
+            })
+            .sum();
+        inside as f64 / (FOLD_POSES * moving.len()).max(1) as f64
+    };
+    let forward = (axis, turns.forward, inside_along(axis, turns.forward));
+    let backward = (-axis, turns.backward, inside_along(-axis, turns.backward));
+    let (shorter, longer) = if turns.forward <= turns.backward {
+        (forward, backward)
+    } else {
+        (backward, forward)
+    };
+    let way = if longer.2 > shorter.2 + FOLD_INSIDE_MARGIN {
+        longer
+    } else {
+        shorter
+    };
+    (way.0, way.1)
 }
 
 /// The sweep settings of the range sweeps: a full turn in [`RANGE_STEPS`] steps.

@@ -412,15 +412,7 @@ fn support(points: &[DVec3], d: DVec3) -> f64 {
 
 /// Share of the points inside the box (its axes and ranges).
 fn inside_share(points: &[DVec3], b: &PartBox) -> f64 {
-    let inside = points
-        .iter()
-        .filter(|p| {
-            (0..3).all(|k| {
-                let x = p.dot(b.axes[k]);
-                x >= b.ranges[k].0 && x <= b.ranges[k].1
-            })
-        })
-        .count();
+    let inside = points.iter().filter(|p| b.contains(**p)).count();
     inside as f64 / points.len().max(1) as f64
 }
 

@@ -5,13 +5,13 @@
 //! along an edge of its box would tear the patch off, so a part with a stem twists on it when
 //! the sweep lets it turn a quarter turn, over any line of its box (`crate::motion_search`).
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::FRAC_PI_2;
 
 use uniphys_geometry::{DVec3, principal_axes};
 use uniphys_types::{Joint, JointLimits};
 use uniphys_verify::Scene;
 
-use crate::hinge_range::free_turns;
+use crate::hinge_range::{folding_way, free_turns};
 use crate::hypotheses::{extent_along, mean};
 use crate::motion_search::{Mover, PartBox};
 
@@ -57,7 +57,8 @@ pub(crate) fn stem(touching: &[DVec3], part: &PartBox) -> Option<Stem> {
 /// of sight); a part something stops turns until it collides each way, its axis turned so that
 /// the wider side is positive. Stops either way that add up to a full turn are one obstacle met
 /// from both sides (a blade meeting its handle's back one way and the bottom of its slot the
-/// other): it turns the wider way only, into the slot.
+/// other): it turns only the way that folds it into the object, into the slot
+/// ([`folding_way`]).
 pub(crate) fn twist_joint(
     scene: &Scene,
     mover: &Mover<'_>,
@@ -79,17 +80,18 @@ pub(crate) fn twist_joint(
             "nothing seen stops it: a quarter turn each way",
         );
     }
+    if turns.one_obstacle() {
+        let (axis, upper) = folding_way(scene, mover, twist, &turns);
+        return (
+            with(axis, 0.0, upper),
+            "stopped both ways by one obstacle: turns the way that folds it into the object",
+        );
+    }
     let (axis, wide, narrow) = if turns.forward >= turns.backward {
         (axis, turns.forward, turns.backward)
     } else {
         (-axis, turns.backward, turns.forward)
     };
-    if wide + narrow >= TAU - 2.0 * turns.step {
-        return (
-            with(axis, 0.0, wide),
-            "stopped both ways by one obstacle: turns the wider way",
-        );
-    }
     (
         with(axis, -narrow, wide),
         "turns both ways until it collides",

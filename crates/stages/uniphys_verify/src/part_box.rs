@@ -96,6 +96,15 @@ impl PartBox {
         (self.ranges[k].1 - self.ranges[k].0).max(0.0)
     }
 
+    /// Whether `point` lies in the box (on its faces included).
+    #[must_use]
+    pub fn contains(&self, point: DVec3) -> bool {
+        (0..3).all(|k| {
+            let x = point.dot(self.axes[k]);
+            x >= self.ranges[k].0 && x <= self.ranges[k].1
+        })
+    }
+
     /// The index of the thinnest axis (the first of equally thin ones).
     #[must_use]
     pub fn thinnest_axis(&self) -> usize {
