@@ -45,6 +45,9 @@ const OPEN_FROM_CLOSED_RAD: f64 = 0.75 * PI;
 const FOLD_POSES: usize = 12;
 /// ... and by how much more of it one way must keep inside to be taken over the shorter way.
 const FOLD_INSIDE_MARGIN: f64 = 0.05;
+/// A panel set back from its parent's box closes a side of it when, over its outline, at most
+/// this share of its parent's samples lie in front of it (against those behind it).
+const IN_FRONT_SHARE_MAX: f64 = 0.02;
 /// Angles at which a panel open at rest is tried closed onto its parent's face (2 degrees).
 const CLOSING_STEP_RAD: f64 = PI / 90.0;
 /// A panel lies on a face of its parent's box when its thin axis is within this angle of the
@@ -82,7 +85,14 @@ pub(crate) fn hinge_range(
     } else {
         (-axis, backward, forward)
     };
-    let (open_axis, lower, upper, why) = if sheet && on_parent_face(child_points, part, parent) {
+    let closed = on_parent_face(child_points, part, parent)
+        || closes_parent_side(
+            child_points,
+            part,
+            parent,
+            &scene.points_of(&[mover.parent]),
+        );
+    let (open_axis, lower, upper, why) = if sheet && closed {
         (
             open_axis,
             0.0,
@@ -316,12 +326,56 @@ fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> b
         let (face_lo, face_hi) = parent.ranges[k];
         let near_face =
             (middle - face_lo).abs() <= tolerance || (middle - face_hi).abs() <= tolerance;
-        // Over the face, not beside it: its middle within the face's extent.
-        let over_face = (0..3).filter(|&m| m != k).all(|m| {
-            let c = part.centre.dot(parent.axes[m]);
-            c >= parent.ranges[m].0 && c <= parent.ranges[m].1
-        });
-        near_face && over_face
+        near_face && over_face(part, parent, k)
+    })
+}
+
+/// Whether a panel closes a side of its parent from outside while set back from its parent's
+/// box (a door under a table's overhanging top, more than [`ON_FACE_FRACTION`] of the table's
+/// depth in from its edge): its thin axis along a normal of the parent's box, its middle over
+/// that face, its parent behind it and nothing of its parent in front of it over its outline.
+fn closes_parent_side(
+    child_points: &[DVec3],
+    part: &PartBox,
+    parent: &PartBox,
+    parent_points: &[DVec3],
+) -> bool {
+    let thin = part.thinnest_axis();
+    let across = [(thin + 1) % 3, (thin + 2) % 3];
+    let in_outline = |p: &DVec3| {
+        across.iter().all(|&m| {
+            let x = p.dot(part.axes[m]);
+            x >= part.ranges[m].0 && x <= part.ranges[m].1
+        })
+    };
+    (0..3).any(|k| {
+        let normal = parent.axes[k];
+        if part.axes[thin].dot(normal).abs() < ON_FACE_COS || !over_face(part, parent, k) {
+            return false;
+        }
+        let (lo, hi) = projection_range(child_points, normal);
+        let (face_lo, face_hi) = parent.ranges[k];
+        // It faces the nearer face of its parent's box.
+        let outward_up = face_hi - hi <= lo - face_lo;
+        let (mut in_front, mut behind) = (0_usize, 0_usize);
+        for p in parent_points.iter().filter(|p| in_outline(p)) {
+            let x = p.dot(normal);
+            if (outward_up && x > hi) || (!outward_up && x < lo) {
+                in_front += 1;
+            } else {
+                behind += 1;
+            }
+        }
+        behind > 0 && in_front as f64 <= IN_FRONT_SHARE_MAX * behind as f64
+    })
+}
+
+/// Whether the middle of a part lies over the face of its parent's box normal to axis `k`: within
+/// the box's range along the other two axes (a door closed on it, not one swung out beside it).
+fn over_face(part: &PartBox, parent: &PartBox, k: usize) -> bool {
+    (0..3).filter(|&m| m != k).all(|m| {
+        let c = part.centre.dot(parent.axes[m]);
+        c >= parent.ranges[m].0 && c <= parent.ranges[m].1
     })
 }
 
@@ -365,5 +419,32 @@ mod tests {
         );
         // Turned back only 60 degrees, it lies on no face.
         assert!(lies_on_parent(&lid, pivot, -DVec3::Y, PI / 3.0, &body).is_none());
+    }
+
+    #[test]
+    fn a_door_set_back_under_an_overhanging_top_closes_its_side() {
+        // A cabinet 0.6 deep (y in [0, 0.6]) under a top overhanging its front by 0.15: the
+        // door on the cabinet's front (y = 0) is 0.15 in from the front of the parent's box.
+        let mut table = grid(DVec3::ZERO, DVec3::new(0.5, 0.6, 0.7));
+        table.extend(grid(
+            DVec3::new(-0.1, -0.15, 0.7),
+            DVec3::new(0.6, 0.6, 0.75),
+        ));
+        let body = PartBox::of(&table);
+        let door = grid(DVec3::new(0.02, -0.02, 0.02), DVec3::new(0.48, 0.0, 0.68));
+        let part = PartBox::of(&door);
+        assert!(!on_parent_face(&door, &part, &body));
+        assert!(closes_parent_side(&door, &part, &body, &table));
+        // A shelf reaching out in front of it: the door is inside its parent, not closing it.
+        table.extend(grid(
+            DVec3::new(0.0, -0.15, 0.3),
+            DVec3::new(0.5, -0.05, 0.32),
+        ));
+        assert!(!closes_parent_side(
+            &door,
+            &part,
+            &PartBox::of(&table),
+            &table
+        ));
     }
 }
