@@ -95,6 +95,25 @@ fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tole
         .fold(1.0, f64::min)
 }
 
+/// How round `part` (sampled at `points`, its box `part_box`) is about `axis`: the smallest share
+/// of its outer samples back on it over the test turns ([`kept_fraction`]). A cap with a spout
+/// keeps most; a lever, little.
+pub(crate) fn roundness_about(
+    scene: &Scene,
+    part: usize,
+    points: &[DVec3],
+    part_box: &PartBox,
+    axis: DVec3,
+) -> f64 {
+    kept_fraction(
+        scene,
+        part,
+        points,
+        axis,
+        ON_SURFACE_FRACTION * part_box.diagonal,
+    )
+}
+
 /// The axis `part` (sampled at `points`, its box `part_box`) is round about, if any; when several
 /// are (a ball), the one most aligned with `prefer` (toward the parent).
 pub(crate) fn spin_axis(

@@ -8,12 +8,13 @@
 use std::f64::consts::FRAC_PI_2;
 
 use uniphys_geometry::{DVec3, principal_axes};
-use uniphys_types::{Joint, JointLimits};
+use uniphys_types::{Joint, JointKind, JointLimits};
 use uniphys_verify::Scene;
 
 use crate::hinge_range::{folding_way, free_turns};
 use crate::hypotheses::{extent_along, mean};
 use crate::motion_search::{Mover, PartBox};
+use crate::spin::roundness_about;
 
 /// A patch whose longest extent is at most this share of the part's box diagonal is small: the
 /// part overhangs it on every side (a lever, a handle). A door's or a lid's contact runs along
@@ -27,6 +28,12 @@ const PATCH_SAMPLES_MIN: usize = 12;
 /// A lever that nothing the sweep sees stops turns this far each way from rest (a quarter turn,
 /// as a single-lever tap's: its stops are inside the cartridge, out of sight).
 const LEVER_TURN_RAD: f64 = FRAC_PI_2;
+
+/// A part twisting on its stem that nothing stops spins freely (a cap, a dial) when at least this
+/// share of its outline maps onto itself turned about the stem (a cap with a spout: about 0.7); a
+/// lever or a cross handle, far from round about its stem (under 0.1), turns a quarter turn each
+/// way instead.
+const ROUND_STEM_KEPT_MIN: f64 = 0.5;
 
 /// The line a part held by a stem turns about: the unit normal of its contact patch and the
 /// patch's middle, object frame.
@@ -75,6 +82,17 @@ pub(crate) fn twist_joint(
         joint
     };
     if turns.unbounded() {
+        let points = scene.points_of(&[mover.child]);
+        let round = roundness_about(scene, mover.child, &points, &mover.boxes[mover.child], axis);
+        if round >= ROUND_STEM_KEPT_MIN {
+            let mut joint = twist.clone();
+            joint.kind = JointKind::Continuous;
+            joint.limits = None;
+            return (
+                joint,
+                "nothing seen stops it and it is mostly round about its stem, a cap or a dial: it spins",
+            );
+        }
         return (
             with(axis, -LEVER_TURN_RAD, LEVER_TURN_RAD),
             "nothing seen stops it: a quarter turn each way",
