@@ -28,9 +28,13 @@ pub(crate) struct BenchArgs {
     /// Skip assets with more parts than this.
     #[arg(long, default_value_t = 40)]
     pub max_parts: usize,
-    /// Seed of the random rotations; asset `i` is rotated by the rotation of seed `seed + i`.
+    /// Seed of the random rotations; in rotated pass `k`, asset `i` is rotated by the rotation
+    /// of seed `seed + 1000 k + i`.
     #[arg(long, default_value_t = 2026)]
     pub seed: u64,
+    /// Rotated passes after the upright one, each with its own random rotation of every asset.
+    #[arg(long, default_value_t = 3)]
+    pub rotations: u64,
     /// Only assets whose name contains this text.
     #[arg(long)]
     pub only: Option<String>,
