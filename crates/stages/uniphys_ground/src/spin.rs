@@ -71,7 +71,25 @@ fn centre_about(points: &[DVec3], axis: DVec3) -> DVec3 {
 /// part (a door, a lid) the faces' samples stay on the faces whatever its outline; the outline
 /// is what a turn tests.
 fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tolerance: f64) -> f64 {
-    let centre = centre_about(points, axis);
+    kept_about_line(
+        scene,
+        part,
+        points,
+        axis,
+        centre_about(points, axis),
+        tolerance,
+    )
+}
+
+/// [`kept_fraction`] about the line along `axis` through `centre`.
+fn kept_about_line(
+    scene: &Scene,
+    part: usize,
+    points: &[DVec3],
+    axis: DVec3,
+    centre: DVec3,
+    tolerance: f64,
+) -> f64 {
     let radius = |p: &DVec3| (*p - centre).reject_from_normalized(axis).length();
     let farthest = points.iter().map(radius).fold(0.0, f64::max);
     let outer: Vec<DVec3> = points
@@ -95,23 +113,28 @@ fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tole
         .fold(1.0, f64::min)
 }
 
-/// How round `part` (sampled at `points`, its box `part_box`) is about `axis`: the smallest share
-/// of its outer samples back on it over the test turns ([`kept_fraction`]). A cap with a spout
-/// keeps most; a lever, little.
+/// How round `part` (sampled at `points`, its box `part_box`) is about the line along `axis`
+/// through `through`: the smallest share of its outer samples back on it over the test turns
+/// ([`kept_fraction`]), the best over the small tilts [`spin_axis`] tries (a line found from
+/// contact leans a few degrees). A cap with a spout keeps most; a lever, little.
 pub(crate) fn roundness_about(
     scene: &Scene,
     part: usize,
     points: &[DVec3],
     part_box: &PartBox,
     axis: DVec3,
+    through: DVec3,
 ) -> f64 {
-    kept_fraction(
-        scene,
-        part,
-        points,
-        axis,
-        ON_SURFACE_FRACTION * part_box.diagonal,
-    )
+    let tolerance = ON_SURFACE_FRACTION * part_box.diagonal;
+    let (u, v) = across(axis);
+    std::iter::once(axis)
+        .chain(
+            TILTS_RAD
+                .iter()
+                .flat_map(|&tilt| [u, -u, v, -v].map(|d| DQuat::from_axis_angle(d, tilt) * axis)),
+        )
+        .map(|a| kept_about_line(scene, part, points, a, through, tolerance))
+        .fold(0.0, f64::max)
 }
 
 /// The axis `part` (sampled at `points`, its box `part_box`) is round about, if any; when several

@@ -30,9 +30,9 @@ const PATCH_SAMPLES_MIN: usize = 12;
 const LEVER_TURN_RAD: f64 = FRAC_PI_2;
 
 /// A part twisting on its stem that nothing stops spins freely (a cap, a dial) when at least this
-/// share of its outline maps onto itself turned about the stem (a cap with a spout: about 0.7); a
-/// lever or a cross handle, far from round about its stem (under 0.1), turns a quarter turn each
-/// way instead.
+/// share of its outline maps onto itself turned about the stem's line (a cap with a spout: 0.71
+/// to 0.73 in any pose); a lever or a cross handle, far from round about it (0), turns a quarter
+/// turn each way instead.
 const ROUND_STEM_KEPT_MIN: f64 = 0.5;
 
 /// The line a part held by a stem turns about: the unit normal of its contact patch and the
@@ -83,7 +83,15 @@ pub(crate) fn twist_joint(
     };
     if turns.unbounded() {
         let points = scene.points_of(&[mover.child]);
-        let round = roundness_about(scene, mover.child, &points, &mover.boxes[mover.child], axis);
+        let through = DVec3::from_array(twist.pivot_in_object_m);
+        let round = roundness_about(
+            scene,
+            mover.child,
+            &points,
+            &mover.boxes[mover.child],
+            axis,
+            through,
+        );
         if round >= ROUND_STEM_KEPT_MIN {
             let mut joint = twist.clone();
             joint.kind = JointKind::Continuous;
