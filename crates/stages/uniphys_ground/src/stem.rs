@@ -60,11 +60,12 @@ pub(crate) fn stem(touching: &[DVec3], part: &PartBox) -> Option<Stem> {
 }
 
 /// The joint of a part twisting on its stem (the chosen twist hypothesis `twist`) with its range
-/// from sweeps each way: a part nothing stops turns a quarter turn each way (its stops are out
-/// of sight); a part something stops turns until it collides each way, its axis turned so that
-/// the wider side is positive. Stops either way that add up to a full turn are one obstacle met
-/// from both sides (a blade meeting its handle's back one way and the bottom of its slot the
-/// other): it turns only the way that folds it into the object, into the slot
+/// from sweeps each way: a part nothing stops spins when it is mostly round about the stem (a
+/// cap), and otherwise turns a quarter turn each way (a lever: its stops are out of sight); a
+/// part something stops turns until it collides each way, its axis turned so that the wider
+/// side is positive. Stops either way that add up to a full turn are one obstacle met from both
+/// sides (a folding blade meeting its handle one way round and the other): it turns one way
+/// only, the one that folds it into the object, or the shorter when neither does more
 /// ([`folding_way`]).
 pub(crate) fn twist_joint(
     scene: &Scene,
