@@ -86,12 +86,13 @@ pub(crate) fn hinge_range(
         (-axis, backward, forward)
     };
     let closed = on_parent_face(child_points, part, parent)
-        || closes_parent_side(
+        || closed_side(
             child_points,
             part,
             parent,
             &scene.points_of(&[mover.parent]),
-        );
+        )
+        .is_some();
     let (open_axis, lower, upper, why) = if sheet && closed {
         (
             open_axis,
@@ -330,16 +331,18 @@ fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> b
     })
 }
 
-/// Whether a panel closes a side of its parent from outside while set back from its parent's
-/// box (a door under a table's overhanging top, more than [`ON_FACE_FRACTION`] of the table's
-/// depth in from its edge): its thin axis along a normal of the parent's box, its middle over
-/// that face, its parent behind it and nothing of its parent in front of it over its outline.
-fn closes_parent_side(
+/// The normal of the side of its parent a panel closes from outside, if it closes one: its thin
+/// axis along a normal of the parent's box, its middle over that face, its parent behind it and
+/// nothing of its parent in front of it over its outline. A door on its cabinet's front closes
+/// it, and so does one set back from its parent's box (under a table's overhanging top, more
+/// than [`ON_FACE_FRACTION`] of the table's depth in from its edge); a drawer's top under its
+/// cabinet's top closes nothing.
+pub(crate) fn closed_side(
     child_points: &[DVec3],
     part: &PartBox,
     parent: &PartBox,
     parent_points: &[DVec3],
-) -> bool {
+) -> Option<DVec3> {
     let thin = part.thinnest_axis();
     let across = [(thin + 1) % 3, (thin + 2) % 3];
     let in_outline = |p: &DVec3| {
@@ -348,26 +351,28 @@ fn closes_parent_side(
             x >= part.ranges[m].0 && x <= part.ranges[m].1
         })
     };
-    (0..3).any(|k| {
-        let normal = parent.axes[k];
-        if part.axes[thin].dot(normal).abs() < ON_FACE_COS || !over_face(part, parent, k) {
-            return false;
-        }
-        let (lo, hi) = projection_range(child_points, normal);
-        let (face_lo, face_hi) = parent.ranges[k];
-        // It faces the nearer face of its parent's box.
-        let outward_up = face_hi - hi <= lo - face_lo;
-        let (mut in_front, mut behind) = (0_usize, 0_usize);
-        for p in parent_points.iter().filter(|p| in_outline(p)) {
-            let x = p.dot(normal);
-            if (outward_up && x > hi) || (!outward_up && x < lo) {
-                in_front += 1;
-            } else {
-                behind += 1;
+    (0..3)
+        .map(|k| parent.axes[k])
+        .enumerate()
+        .find_map(|(k, normal)| {
+            if part.axes[thin].dot(normal).abs() < ON_FACE_COS || !over_face(part, parent, k) {
+                return None;
             }
-        }
-        behind > 0 && in_front as f64 <= IN_FRONT_SHARE_MAX * behind as f64
-    })
+            let (lo, hi) = projection_range(child_points, normal);
+            let (face_lo, face_hi) = parent.ranges[k];
+            // It faces the nearer face of its parent's box.
+            let outward_up = face_hi - hi <= lo - face_lo;
+            let (mut in_front, mut behind) = (0_usize, 0_usize);
+            for p in parent_points.iter().filter(|p| in_outline(p)) {
+                let x = p.dot(normal);
+                if (outward_up && x > hi) || (!outward_up && x < lo) {
+                    in_front += 1;
+                } else {
+                    behind += 1;
+                }
+            }
+            (behind > 0 && in_front as f64 <= IN_FRONT_SHARE_MAX * behind as f64).then_some(normal)
+        })
 }
 
 /// Whether the middle of a part lies over the face of its parent's box normal to axis `k`: within
@@ -434,17 +439,12 @@ mod tests {
         let door = grid(DVec3::new(0.02, -0.02, 0.02), DVec3::new(0.48, 0.0, 0.68));
         let part = PartBox::of(&door);
         assert!(!on_parent_face(&door, &part, &body));
-        assert!(closes_parent_side(&door, &part, &body, &table));
+        assert!(closed_side(&door, &part, &body, &table).is_some());
         // A shelf reaching out in front of it: the door is inside its parent, not closing it.
         table.extend(grid(
             DVec3::new(0.0, -0.15, 0.3),
             DVec3::new(0.5, -0.05, 0.32),
         ));
-        assert!(!closes_parent_side(
-            &door,
-            &part,
-            &PartBox::of(&table),
-            &table
-        ));
+        assert!(closed_side(&door, &part, &PartBox::of(&table), &table).is_none());
     }
 }

@@ -43,7 +43,7 @@ pub(crate) use uniphys_verify::PartBox;
 use uniphys_verify::{Scene, SweepMetrics, SweepParams, sweep};
 
 use crate::articulate::builtin_joint;
-use crate::hinge_range::hinge_range;
+use crate::hinge_range::{closed_side, hinge_range};
 use crate::hypotheses::{extent_along, mean};
 use crate::small_part::{pushed_not_turned, small_part_motion};
 use crate::spin::spin_axis;
@@ -94,6 +94,9 @@ const SLIDE_SNAP_COS: f64 = 0.996_194_7;
 /// side flush with its table's; not a door's face, which stands proud of its cabinet while its
 /// edges are flush with the cabinet's).
 const OPENING_SLACK_FRACTION: f64 = 0.05;
+/// A slide runs along the side its part closes when it is more than 60 degrees from that side's
+/// normal (cosine): slides run along box axes, so along the side or out of it.
+const ALONG_SIDE_COS: f64 = 0.5;
 /// Steps of each candidate's sweep.
 const STEPS: usize = 16;
 
@@ -281,6 +284,12 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     // clear the opening.
     let [thin, middle, _] = part.sorted_extents();
     let slab = thin < SLAB_RATIO * middle;
+    // A part that closes a side of its parent (a door on its front) comes out of that side if
+    // it slides at all (a drawer's front): slid along it, it is a door pushed out of its frame
+    // sideways or down, which only the ground, when there is one, would stop.
+    let closed = closed_side(&child_points, part, parent_box, &parent_points);
+    let along_closed_side =
+        |axis: DVec3| closed.is_some_and(|n| axis.dot(n).abs() < ALONG_SIDE_COS);
     // Ways out of the opening: those where the parent reaches past the part least (within
     // `OPENING_SLACK_FRACTION` of the part's length of the least), deep and free enough; of
     // them, the one the part comes out of the most.
@@ -296,6 +305,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
                 && depth >= SLIDE_DEPTH_MIN_FRACTION * longest
                 && c.free >= SLIDE_FREE_MIN_FRACTION * depth
                 && !(slab && depth <= SLAB_DEPTH_SLACK * thin)
+                && !along_closed_side(DVec3::from_array(c.joint.axis_in_object))
         })
         .map(|(c, _)| c)
         .collect();
