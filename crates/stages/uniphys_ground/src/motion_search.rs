@@ -284,9 +284,10 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     // clear the opening.
     let [thin, middle, _] = part.sorted_extents();
     let slab = thin < SLAB_RATIO * middle;
-    // A part that closes a side of its parent (a door on its front) comes out of that side if
-    // it slides at all (a drawer's front): slid along it, it is a door pushed out of its frame
-    // sideways or down, which only the ground, when there is one, would stop.
+    // A part that closes a side of its parent from outside (a door on its front) slides, if at
+    // all, out of that side: slid along it, it is a door pushed sideways or down out of its
+    // frame, which only the ground, when there is one, would stop. A drawer closes no side by
+    // this test (its thin axis is its height, not its depth).
     let closed = closed_side(&child_points, part, parent_box, &parent_points);
     let along_closed_side =
         |axis: DVec3| closed.is_some_and(|n| axis.dot(n).abs() < ALONG_SIDE_COS);
