@@ -86,15 +86,6 @@ impl RetryPolicy {
         self.base_delay.saturating_mul(factor).min(self.max_delay)
     }
 
-    /// The longest wait after failed attempt `attempt`: the server's `Retry-After` if it sent
-    /// one, else the backoff ceiling; at most `max_delay` either way.
-    #[must_use]
-    pub fn longest_wait(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
-        retry_after
-            .unwrap_or_else(|| self.backoff_ceiling(attempt))
-            .min(self.max_delay)
-    }
-
     /// The wait after failed attempt `attempt` (1-based) of the request identified by
     /// `jitter_key`: the server's `Retry-After` capped at `max_delay` (no jitter: the server
     /// chose it), else the backoff ceiling less up to `jitter_fraction` of it.
@@ -175,8 +166,7 @@ mod tests {
             policy.delay(1, b"k", Some(Duration::from_secs(60))),
             MS * 1000
         );
-        assert_eq!(policy.longest_wait(1, Some(MS * 70)), MS * 70);
-        assert_eq!(policy.longest_wait(3, None), MS * 400);
+        assert_eq!(policy.delay(3, b"k", Some(MS * 70)), MS * 70);
     }
 
     #[test]

@@ -12,7 +12,6 @@
 //! The API key comes from the caller (conventionally [`API_KEY_VARIABLE`]); it is sent only in
 //! the `Authorization` header, never hashed into the cache key, cached or printed.
 
-mod backoff;
 mod cache;
 mod client;
 mod config;
@@ -24,7 +23,6 @@ mod rate_limit;
 mod request;
 mod response;
 
-pub use backoff::backoff_delay;
 pub use cache::{AnswerCache, CachedAnswer, DirCache, MemoryCache, NoCache};
 pub use client::{ChatAnswer, LvlmClient};
 pub use config::{API_KEY_VARIABLE, LvlmConfig, Pricing};

@@ -293,15 +293,6 @@ impl UniPhysGenClient {
         self.parse(request, &answer)
     }
 
-    /// The longest wait after failed attempt `attempt` (1-based): `Retry-After` if the server
-    /// sent one (429 and 503), else `initial_backoff * 2^(attempt - 1)`; at most `max_backoff`
-    /// either way. Without `Retry-After` the client waits between half of it and all of it
-    /// (jitter; `uniphys_http::RetryPolicy`).
-    #[must_use]
-    pub fn backoff(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
-        self.policy.longest_wait(attempt, retry_after)
-    }
-
     /// The error of a failure retrying would not change.
     fn refused(&self, request: &PredictRequest, failure: Failure) -> UniPhysGenError {
         match (failure.kind, failure.status) {
@@ -382,15 +373,16 @@ mod tests {
             ..ClientConfig::default()
         };
         let client = UniPhysGenClient::new(config, 1).unwrap();
-        assert_eq!(client.backoff(1, None), Duration::from_millis(100));
-        assert_eq!(client.backoff(3, None), Duration::from_millis(400));
-        assert_eq!(client.backoff(5, None), Duration::from_millis(1000));
+        let policy = &client.policy;
+        assert_eq!(policy.backoff_ceiling(1), Duration::from_millis(100));
+        assert_eq!(policy.backoff_ceiling(3), Duration::from_millis(400));
+        assert_eq!(policy.backoff_ceiling(5), Duration::from_millis(1000));
         assert_eq!(
-            client.backoff(1, Some(Duration::from_millis(700))),
+            policy.delay(1, b"k", Some(Duration::from_millis(700))),
             Duration::from_millis(700)
         );
         assert_eq!(
-            client.backoff(1, Some(Duration::from_secs(60))),
+            policy.delay(1, b"k", Some(Duration::from_secs(60))),
             Duration::from_millis(1000)
         );
     }

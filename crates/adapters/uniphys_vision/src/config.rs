@@ -83,15 +83,6 @@ impl ClientConfig {
         Ok(())
     }
 
-    /// The longest wait after failed attempt `attempt` (1-based): the server's `Retry-After` if
-    /// it sent one (429 and 503), else `initial_backoff * 2^(attempt - 1)`; at most
-    /// `max_backoff` either way. Without `Retry-After` the client waits between half of it and
-    /// all of it (jitter; `uniphys_http::RetryPolicy`).
-    #[must_use]
-    pub fn backoff(&self, attempt: u32, retry_after: Option<Duration>) -> Duration {
-        self.retry_policy().longest_wait(attempt, retry_after)
-    }
-
     /// These settings as the shared retry policy (half of each backoff jitter, no deadline
     /// beyond the attempts).
     #[must_use]
@@ -111,15 +102,16 @@ mod tests {
             max_backoff: Duration::from_millis(1000),
             ..ClientConfig::default()
         };
-        assert_eq!(config.backoff(1, None), Duration::from_millis(100));
-        assert_eq!(config.backoff(3, None), Duration::from_millis(400));
-        assert_eq!(config.backoff(9, None), Duration::from_millis(1000));
+        let policy = config.retry_policy();
+        assert_eq!(policy.backoff_ceiling(1), Duration::from_millis(100));
+        assert_eq!(policy.backoff_ceiling(3), Duration::from_millis(400));
+        assert_eq!(policy.backoff_ceiling(9), Duration::from_millis(1000));
         assert_eq!(
-            config.backoff(4, Some(Duration::from_millis(70))),
+            policy.delay(4, b"k", Some(Duration::from_millis(70))),
             Duration::from_millis(70)
         );
         assert_eq!(
-            config.backoff(1, Some(Duration::from_secs(60))),
+            policy.delay(1, b"k", Some(Duration::from_secs(60))),
             Duration::from_millis(1000)
         );
     }
