@@ -58,7 +58,8 @@ const ON_FACE_COS: f64 = 0.965_925_8;
 const ON_FACE_FRACTION: f64 = 0.1;
 
 /// The chosen hinge with its axis turned to open positively and its range `[lower, upper]`
-/// (radians, rest at 0), and a few words on what bounded it.
+/// (radians, rest at 0), and a few words on what bounded it. `closes_side`: whether the part
+/// closes a side of its parent ([`closed_side`], found by the caller).
 pub(crate) fn hinge_range(
     scene: &Scene,
     mover: &Mover<'_>,
@@ -66,6 +67,7 @@ pub(crate) fn hinge_range(
     part: &PartBox,
     parent: &PartBox,
     child_points: &[DVec3],
+    closes_side: bool,
 ) -> (Joint, &'static str) {
     let axis = DVec3::from_array(hinge.axis_in_object);
     let Some(turns) = free_turns(scene, mover, hinge) else {
@@ -85,14 +87,7 @@ pub(crate) fn hinge_range(
     } else {
         (-axis, backward, forward)
     };
-    let closed = on_parent_face(child_points, part, parent)
-        || closed_side(
-            child_points,
-            part,
-            parent,
-            &scene.points_of(&[mover.parent]),
-        )
-        .is_some();
+    let closed = on_parent_face(child_points, part, parent) || closes_side;
     let (open_axis, lower, upper, why) = if sheet && closed {
         (
             open_axis,

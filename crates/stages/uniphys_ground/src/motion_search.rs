@@ -345,7 +345,15 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
                 "slides".to_owned()
             } else {
                 let why;
-                (joint, why) = hinge_range(scene, mover, &joint, part, parent_box, &child_points);
+                (joint, why) = hinge_range(
+                    scene,
+                    mover,
+                    &joint,
+                    part,
+                    parent_box,
+                    &child_points,
+                    closed.is_some(),
+                );
                 format!("hinges ({why})")
             };
             Motion {
