@@ -70,6 +70,18 @@ fn client(attempt_timeout: Duration) -> HttpClient {
     .expect("client")
 }
 
+/// `GET url` under `policy` with a client whose attempts time out after `attempt_timeout`; the
+/// body of the 2xx answer.
+fn get(policy: &RetryPolicy, attempt_timeout: Duration, url: &str) -> Result<String, HttpError> {
+    client(attempt_timeout).send_with_retry(
+        policy,
+        b"request",
+        |http| http.get(url),
+        |reply| Ok(reply.body),
+        |_| {},
+    )
+}
+
 const TOO_MANY: &str = "HTTP/1.1 429 Too Many Requests\r\nRetry-After: 1\r\nContent-Length: 26\r\nConnection: close\r\n\r\n{\"error\":\"rate limited\"}\r\n";
 const OK: &str = "HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: 11\r\nConnection: close\r\n\r\n{\"ok\":true}";
 const NOT_FOUND: &str =
@@ -127,15 +139,7 @@ fn a_server_that_never_answers_times_out_on_every_attempt() {
         ..RetryPolicy::default()
     };
     let start = Instant::now();
-    let error = client(Duration::from_millis(200))
-        .send_with_retry(
-            &policy,
-            b"request",
-            |http| http.get(format!("{url}/slow")),
-            |reply| Ok(reply.body),
-            |_| {},
-        )
-        .unwrap_err();
+    let error = get(&policy, Duration::from_millis(200), &format!("{url}/slow")).unwrap_err();
     let elapsed = start.elapsed();
     let HttpError::GaveUp { attempts, last, .. } = &error else {
         panic!("{error:?}");
@@ -159,15 +163,7 @@ fn the_overall_deadline_cuts_an_attempt_short() {
         ..RetryPolicy::default()
     };
     let start = Instant::now();
-    let error = client(Duration::from_secs(10))
-        .send_with_retry(
-            &policy,
-            b"request",
-            |http| http.get(format!("{url}/slow")),
-            |reply| Ok(reply.body),
-            |_| {},
-        )
-        .unwrap_err();
+    let error = get(&policy, Duration::from_secs(10), &format!("{url}/slow")).unwrap_err();
     assert!(
         matches!(
             &error,
@@ -189,15 +185,12 @@ fn the_overall_deadline_cuts_an_attempt_short() {
 #[test]
 fn a_404_is_permanent_and_not_retried() {
     let (url, arrivals) = serve(vec![Answer::Raw(NOT_FOUND), Answer::Raw(OK)]);
-    let error = client(Duration::from_secs(5))
-        .send_with_retry(
-            &RetryPolicy::default(),
-            b"request",
-            |http| http.get(format!("{url}/missing")),
-            |reply| Ok(reply.body),
-            |_| {},
-        )
-        .unwrap_err();
+    let error = get(
+        &RetryPolicy::default(),
+        Duration::from_secs(5),
+        &format!("{url}/missing"),
+    )
+    .unwrap_err();
     let HttpError::Permanent { failure } = &error else {
         panic!("{error:?}");
     };
@@ -220,15 +213,12 @@ fn nobody_listening_is_a_transient_connect_failure() {
         base_delay: Duration::from_millis(1),
         ..RetryPolicy::default()
     };
-    let error = client(Duration::from_secs(2))
-        .send_with_retry(
-            &policy,
-            b"request",
-            |http| http.get(format!("http://127.0.0.1:{port}/")),
-            |reply| Ok(reply.body),
-            |_| {},
-        )
-        .unwrap_err();
+    let error = get(
+        &policy,
+        Duration::from_secs(2),
+        &format!("http://127.0.0.1:{port}/"),
+    )
+    .unwrap_err();
     let HttpError::GaveUp { attempts, last, .. } = &error else {
         panic!("{error:?}");
     };
