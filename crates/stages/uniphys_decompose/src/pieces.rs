@@ -15,16 +15,20 @@
 //!
 //! Controls are small pieces, and inside pieces too large to be one, finer pieces split where
 //! three or more faces share an edge: a button modelled onto its panel shares the panel's
-//! vertices, but its walls stand on the panel along edges the panel's own faces continue across (on the shared objects this finds
-//! the welded buttons of a dishwasher and a camera). A control is solid (not a flat patch of a
-//! surface cut out by such edges) and meets the rest along a seam in one plane (it stands on a
-//! face; a block filling the corner of a frame meets several). Pieces repeated many times over (the keys of a keyboard, the
-//! holes of a grille, screws), or dozens on one part, are surface detail, not controls: an
+//! vertices, but its walls stand on the panel along edges the panel's own faces continue
+//! across (on the shared objects this finds the welded buttons of a dishwasher and a camera).
+//! A control drawn as a bump of the panel's own surface shares even its edges with the panel:
+//! it is a pocket of the surface behind one crease ([`crate::pockets`]; an oven's knobs, a
+//! camera's buttons). A control is solid (not a flat patch of a surface cut out by such edges)
+//! and meets the rest along a seam in one plane (it stands on a face; a block filling the
+//! corner of a frame meets several). Pieces repeated many times over (the keys of a keyboard,
+//! the holes of a grille, screws), or dozens on one part, are surface detail, not controls: an
 //! appliance has a handful of controls.
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
 use crate::candidates::{UnionFind, relabel_by_first_face, welded_vertex_ids};
+use crate::pockets::crease_pockets;
 use crate::round::{round_about, round_axis};
 
 /// Tuning of [`respect_pieces`]. Areas are shares of the total surface area.
@@ -51,6 +55,10 @@ pub struct PieceOptions {
     /// ... or more than this many candidates sit on the same part (studs, rivets, keys of many
     /// shapes: surface detail). Default 32.
     pub control_per_host_max: usize,
+    /// Faces meeting at more than this angle meet at a crease, radians: a control drawn as a
+    /// bump of its panel's surface is a pocket behind one ([`crate::pockets`]). Default 30
+    /// degrees (an oven's knobs stand on their panel at 35).
+    pub control_crease_rad: f64,
 }
 
 /// A part with at least this share of its area inside one piece was carved out of it.
@@ -67,6 +75,7 @@ impl Default for PieceOptions {
             control_thickness_min: 0.1,
             control_copies_max: 16,
             control_per_host_max: 32,
+            control_crease_rad: 30f64.to_radians(),
         }
     }
 }
@@ -254,10 +263,31 @@ pub fn respect_pieces(
         .iter()
         .filter(|faces| too_large(piece[faces[0]] as usize))
         .map(|faces| (faces.as_slice(), true));
-    let sets: Vec<(&[usize], bool)> = whole_sets.chain(welded_sets).collect();
+    // A control drawn as a bump of its panel's own surface: a pocket behind one crease.
+    let pockets: Vec<Vec<usize>> = crease_pockets(
+        mesh,
+        &welded,
+        &face_area_m2,
+        options.control_crease_rad,
+        (
+            options.control_area_fraction_min * total_m2,
+            options.control_area_fraction_max * total_m2,
+        ),
+        options.control_host_ratio,
+    )
+    .into_iter()
+    .filter(|faces| too_large(piece[faces[0]] as usize))
+    .collect();
+    let pocket_sets = pockets.iter().map(|faces| (faces.as_slice(), false));
+    let sets: Vec<(&[usize], bool)> = whole_sets.chain(welded_sets).chain(pocket_sets).collect();
     let seams = Seams::of(mesh, &welded, &control_piece);
     let mut candidates: Vec<(usize, usize, Shape)> = Vec::new();
+    // A face goes to the first candidate holding it (a pocket that is also a finer piece once).
+    let mut claimed = vec![false; mesh.triangle_count()];
     for (i, &(faces, welded)) in sets.iter().enumerate() {
+        if faces.iter().any(|&f| claimed[f]) {
+            continue;
+        }
         let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
         let host = labels[faces[0]] as usize;
         let small = area_m2 < options.control_area_fraction_max * total_m2
@@ -270,6 +300,9 @@ pub fn respect_pieces(
             && shape.thickness() >= options.control_thickness_min
             && (!welded || seams.stands_on_one_face(mesh, faces))
         {
+            for &f in faces {
+                claimed[f] = true;
+            }
             candidates.push((i, host, shape));
         }
     }

@@ -1,0 +1,296 @@
+//! Controls modelled into a surface: a knob or a button drawn as a bump of the panel's own
+//! surface shares the panel's edges (no seam, no edge of three faces sets it apart), but it
+//! meets the panel along a crease, and everything of it lies behind that crease.
+//!
+//! The surface is cut along its creases into smooth regions. A pocket is a set of small
+//! regions that only one region (its host) separates from the rest of the mesh: removing the
+//! host leaves them a component of their own, as a button's top and wall are once the panel
+//! around it is gone, while a strip of a bevel leads on to further regions. Measured on the
+//! shared PartNet-Mobility objects, the oven knobs, camera buttons and microwave dials welded
+//! into their panels are pockets of their panel.
+
+use uniphys_geometry::{DVec3, TriMesh};
+
+use crate::candidates::UnionFind;
+
+/// Most regions a pocket may hold (beyond it the search stops: a control is a few smooth
+/// surfaces).
+const POCKET_REGIONS_MAX: usize = 400;
+
+/// The pockets of `mesh` whose area lies in `(min_m2, max_m2)` and whose host has at least
+/// `host_ratio` times their area, each as its faces (sorted), in the order of their hosts
+/// (largest first). `welded` gives each vertex its welded id; two faces sharing an edge are in
+/// one smooth region when their normals are within `crease_rad` of each other (either
+/// orientation: a model's winding is not trusted).
+#[must_use]
+pub fn crease_pockets(
+    mesh: &TriMesh,
+    welded: &[u32],
+    face_area_m2: &[f64],
+    crease_rad: f64,
+    (min_m2, max_m2): (f64, f64),
+    host_ratio: f64,
+) -> Vec<Vec<usize>> {
+    let (region, regions) = smooth_regions(mesh, welded, crease_rad);
+    let mut region_m2 = vec![0.0f64; regions];
+    for (f, &r) in region.iter().enumerate() {
+        region_m2[r as usize] += face_area_m2[f];
+    }
+    let neighbours = region_neighbours(mesh, welded, &region, regions);
+    let mut order: Vec<usize> = (0..regions).collect();
+    order.sort_by(|&a, &b| region_m2[b].total_cmp(&region_m2[a]).then(a.cmp(&b)));
+    let mut taken = vec![false; regions];
+    let mut pockets: Vec<Vec<usize>> = Vec::new();
+    for &host in &order {
+        if region_m2[host] < host_ratio * min_m2 {
+            break;
+        }
+        for &start in &neighbours[host] {
+            let start = start as usize;
+            if taken[start] || region_m2[start] >= max_m2 {
+                continue;
+            }
+            let Some(members) = behind(host, start, &neighbours, &region_m2, max_m2) else {
+                continue;
+            };
+            let area_m2: f64 = members.iter().map(|&r| region_m2[r]).sum();
+            if area_m2 <= min_m2 || region_m2[host] < host_ratio * area_m2 {
+                continue;
+            }
+            for &r in &members {
+                taken[r] = true;
+            }
+            pockets.push(members);
+        }
+    }
+    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); regions];
+    for (f, &r) in region.iter().enumerate() {
+        faces_of[r as usize].push(f);
+    }
+    pockets
+        .into_iter()
+        .map(|members| {
+            let mut faces: Vec<usize> = members
+                .iter()
+                .flat_map(|&r| faces_of[r].iter().copied())
+                .collect();
+            faces.sort_unstable();
+            faces
+        })
+        .collect()
+}
+
+/// The regions reached from `start` without passing `host`, if they stay under `max_m2` and
+/// [`POCKET_REGIONS_MAX`] regions (breadth first).
+fn behind(
+    host: usize,
+    start: usize,
+    neighbours: &[Vec<u32>],
+    region_m2: &[f64],
+    max_m2: f64,
+) -> Option<Vec<usize>> {
+    let mut members = vec![start];
+    let mut area_m2 = region_m2[start];
+    let mut next = 0;
+    while next < members.len() {
+        let r = members[next];
+        next += 1;
+        for &n in &neighbours[r] {
+            let n = n as usize;
+            if n == host || members.contains(&n) {
+                continue;
+            }
+            members.push(n);
+            area_m2 += region_m2[n];
+            if area_m2 >= max_m2 || members.len() > POCKET_REGIONS_MAX {
+                return None;
+            }
+        }
+    }
+    Some(members)
+}
+
+/// The edges of `mesh` over welded vertices, each with the faces using it: faces over the same
+/// three welded vertices (the two sides of a double-sided surface) count once, their first
+/// standing for all, and a face over fewer has none. Returns the edges `(u, v, face)` sorted, and for each face the face that
+/// stands for it.
+fn welded_edges(mesh: &TriMesh, welded: &[u32]) -> (Vec<(u32, u32, u32)>, Vec<u32>) {
+    let mut keyed: Vec<([u32; 3], u32)> = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .map(|(f, t)| {
+            let mut key = t.map(|v| welded[v as usize]);
+            key.sort_unstable();
+            (key, u32::try_from(f).unwrap_or(u32::MAX))
+        })
+        .collect();
+    keyed.sort_unstable();
+    let mut stands_for: Vec<u32> = (0..u32::try_from(keyed.len()).unwrap_or(u32::MAX)).collect();
+    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(keyed.len() * 3);
+    for (i, &(key, f)) in keyed.iter().enumerate() {
+        if i > 0 && keyed[i - 1].0 == key {
+            stands_for[f as usize] = stands_for[keyed[i - 1].1 as usize];
+            continue;
+        }
+        let [a, b, c] = key;
+        // A face over fewer than three welded vertices has no area and no edges of its own.
+        if a != b && b != c {
+            edges.extend([(a, b, f), (b, c, f), (a, c, f)]);
+        }
+    }
+    edges.sort_unstable();
+    (edges, stands_for)
+}
+
+/// Runs of `edges` over the same two vertices: the faces around each edge.
+fn edge_runs(edges: &[(u32, u32, u32)]) -> impl Iterator<Item = &[(u32, u32, u32)]> {
+    edges.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
+}
+
+/// Smooth regions: faces joined across edges of exactly two faces whose normals are within
+/// `crease_rad` (either orientation; a face without area joins both sides). Returns the region of every face and their count.
+fn smooth_regions(mesh: &TriMesh, welded: &[u32], crease_rad: f64) -> (Vec<u32>, usize) {
+    let (edges, stands_for) = welded_edges(mesh, welded);
+    let normals: Vec<DVec3> = (0..mesh.triangle_count())
+        .map(|f| mesh.face_normal(f))
+        .collect();
+    let smooth_cos = crease_rad.cos();
+    let mut uf = UnionFind::new(mesh.triangle_count());
+    for (f, &to) in stands_for.iter().enumerate() {
+        uf.union(u32::try_from(f).unwrap_or(u32::MAX), to);
+    }
+    for run in edge_runs(&edges) {
+        if let [(_, _, f), (_, _, g)] = run {
+            let (a, b) = (normals[*f as usize], normals[*g as usize]);
+            // A face without a normal (no area) is no crease.
+            if a == DVec3::ZERO || b == DVec3::ZERO || a.dot(b).abs() >= smooth_cos {
+                uf.union(*f, *g);
+            }
+        }
+    }
+    let roots: Vec<u32> = (0..u32::try_from(mesh.triangle_count()).unwrap_or(u32::MAX))
+        .map(|f| uf.find(f))
+        .collect();
+    crate::candidates::relabel_by_first_face(&roots)
+}
+
+/// For every region, the regions it meets along an edge (a crease, or an edge of three or
+/// more faces), sorted.
+fn region_neighbours(
+    mesh: &TriMesh,
+    welded: &[u32],
+    region: &[u32],
+    regions: usize,
+) -> Vec<Vec<u32>> {
+    let (edges, _) = welded_edges(mesh, welded);
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); regions];
+    for run in edge_runs(&edges) {
+        for (i, &(_, _, f)) in run.iter().enumerate() {
+            for &(_, _, g) in &run[i + 1..] {
+                let (a, b) = (region[f as usize], region[g as usize]);
+                if a != b {
+                    neighbours[a as usize].push(b);
+                    neighbours[b as usize].push(a);
+                }
+            }
+        }
+    }
+    for list in &mut neighbours {
+        list.sort_unstable();
+        list.dedup();
+    }
+    neighbours
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::candidates::welded_vertex_ids;
+
+    /// A flat square panel of `n` x `n` cells (side 1, z = 0) with, over the middle cell, a box
+    /// bump of height `h` sharing the panel's vertices: the cell's four edges are where the bump's
+    /// walls stand, its top at z = h.
+    fn panel_with_bump(n: usize, h: f64) -> TriMesh {
+        let mut positions = Vec::new();
+        let id = |i: usize, j: usize| u32::try_from(i * (n + 1) + j).unwrap();
+        for i in 0..=n {
+            for j in 0..=n {
+                positions.push(DVec3::new(i as f64 / n as f64, j as f64 / n as f64, 0.0));
+            }
+        }
+        let mid = n / 2;
+        let mut triangles = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                if (i, j) == (mid, mid) {
+                    continue;
+                }
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                triangles.push([a, b, c]);
+                triangles.push([a, c, d]);
+            }
+        }
+        // The bump: four wall quads from the cell's edges up to its top, and the top.
+        let base = [
+            id(mid, mid),
+            id(mid + 1, mid),
+            id(mid + 1, mid + 1),
+            id(mid, mid + 1),
+        ];
+        let top: Vec<u32> = base
+            .iter()
+            .map(|&v| {
+                let p = positions[v as usize];
+                positions.push(DVec3::new(p.x, p.y, h));
+                u32::try_from(positions.len() - 1).unwrap()
+            })
+            .collect();
+        for k in 0..4 {
+            let (a, b) = (base[k], base[(k + 1) % 4]);
+            let (c, d) = (top[(k + 1) % 4], top[k]);
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+        triangles.push([top[0], top[1], top[2]]);
+        triangles.push([top[0], top[2], top[3]]);
+        TriMesh {
+            positions,
+            triangles,
+            ..TriMesh::default()
+        }
+    }
+
+    fn pockets_of(mesh: &TriMesh) -> Vec<Vec<usize>> {
+        let areas: Vec<f64> = (0..mesh.triangle_count())
+            .map(|f| mesh.face_area(f))
+            .collect();
+        let total: f64 = areas.iter().sum();
+        crease_pockets(
+            mesh,
+            &welded_vertex_ids(mesh),
+            &areas,
+            30f64.to_radians(),
+            (1e-5 * total, 0.05 * total),
+            2.0,
+        )
+    }
+
+    #[test]
+    fn a_bump_welded_into_its_panel_is_a_pocket_of_it() {
+        let mesh = panel_with_bump(9, 0.05);
+        let pockets = pockets_of(&mesh);
+        assert_eq!(pockets.len(), 1, "{pockets:?}");
+        // The bump's ten faces (four walls of two, a top of two), after the panel's 160.
+        let bump: Vec<usize> = (160..170).collect();
+        assert_eq!(pockets[0], bump);
+    }
+
+    #[test]
+    fn a_flat_inlay_and_a_bump_too_large_for_a_control_are_no_pocket() {
+        // Walls of no height (zero-area faces) are no crease: the top lies in the panel.
+        assert!(pockets_of(&panel_with_bump(9, 0.0)).is_empty());
+        // A ninth of the panel is more than the 5 % a control may hold.
+        assert!(pockets_of(&panel_with_bump(3, 0.05)).is_empty());
+    }
+}
