@@ -454,7 +454,7 @@ fn split_two_big_pieces(
     faces_of: &[Vec<usize>],
     face_area_m2: &[f64],
 ) -> (usize, usize) {
-    let mut area = vec![std::collections::HashMap::<u32, f64>::new(); parts];
+    let mut area = vec![std::collections::BTreeMap::<u32, f64>::new(); parts];
     let mut part_m2 = vec![0.0f64; parts];
     for (f, (&l, &q)) in labels.iter().zip(piece).enumerate() {
         *area[l as usize].entry(q).or_default() += face_area_m2[f];
@@ -464,17 +464,15 @@ fn split_two_big_pieces(
     // (part, piece, new part)
     let mut moved: Vec<(u32, u32, u32)> = Vec::new();
     for (p, by_piece) in area.iter().enumerate() {
-        let big: Vec<(u32, f64)> = by_piece
+        let mut big: Vec<(u32, f64)> = by_piece
             .iter()
             .filter(|&(_, &a)| a >= BIG_PIECE_SHARE * part_m2[p])
             .map(|(&q, &a)| (q, a))
             .collect();
-        if big.len() == 2 {
-            let (larger, smaller) = if big[0].1 <= big[1].1 {
-                (big[1].0, big[0].0)
-            } else {
-                (big[0].0, big[1].0)
-            };
+        // Smaller first; of two equal pieces (a pair of mirror-image doors) the one numbered
+        // first (a hash map's order made the choice differ run to run).
+        big.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        if let [(smaller, _), (larger, _)] = big[..] {
             if !nested(
                 mesh,
                 &faces_of[smaller as usize],
