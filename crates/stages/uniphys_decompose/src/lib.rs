@@ -17,7 +17,8 @@
 //!   front) split back out of the merge; all thresholds relative to the object size; [`pieces`]: the
 //!   mesh's connected pieces made whole, two big pieces of one part neither inside the other (a
 //!   laptop's screen and base) kept as two, small compact pieces (knobs, buttons) kept as parts,
-//!   also when drawn into a panel's surface ([`pockets`]: smooth regions behind one crease);
+//!   also when drawn into a panel's surface, and caps drawn onto a neck ([`pockets`]: smooth
+//!   regions behind one crease);
 //!   [`round`]: whether a part maps onto itself when turned (a wheel or a dial is kept, since
 //!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed
 //!   object (unreachable, so not operable) merged into the largest part;

@@ -59,6 +59,9 @@ pub struct PieceOptions {
     /// bump of its panel's surface is a pocket behind one ([`crate::pockets`]). Default 30
     /// degrees (an oven's knobs stand on their panel at 35).
     pub control_crease_rad: f64,
+    /// A pocket may hold up to this share of the area (a cap drawn onto its bottle's neck is a
+    /// part of its own, though too large to be a control). Default 0.3.
+    pub pocket_area_fraction_max: f64,
 }
 
 /// A part with at least this share of its area inside one piece was carved out of it.
@@ -76,6 +79,7 @@ impl Default for PieceOptions {
             control_copies_max: 16,
             control_per_host_max: 32,
             control_crease_rad: 30f64.to_radians(),
+            pocket_area_fraction_max: 0.3,
         }
     }
 }
@@ -258,12 +262,13 @@ pub fn respect_pieces(
     let too_large = |q: usize| piece_area_m2[q] >= options.control_area_fraction_max * total_m2;
     let whole_sets = (0..pieces)
         .filter(|&q| !too_large(q))
-        .map(|q| (faces_of[q].as_slice(), false));
+        .map(|q| (faces_of[q].as_slice(), Source::Piece));
     let welded_sets = sub_pieces
         .iter()
         .filter(|faces| too_large(piece[faces[0]] as usize))
-        .map(|faces| (faces.as_slice(), true));
-    // A control drawn as a bump of its panel's own surface: a pocket behind one crease.
+        .map(|faces| (faces.as_slice(), Source::FinerPiece));
+    // A control drawn as a bump of its panel's own surface, or a cap drawn onto its bottle's
+    // neck: a pocket behind one crease.
     let pockets: Vec<Vec<usize>> = crease_pockets(
         mesh,
         &welded,
@@ -271,34 +276,40 @@ pub fn respect_pieces(
         options.control_crease_rad,
         (
             options.control_area_fraction_min * total_m2,
-            options.control_area_fraction_max * total_m2,
+            options.pocket_area_fraction_max * total_m2,
         ),
         options.control_host_ratio,
     )
     .into_iter()
     .filter(|faces| too_large(piece[faces[0]] as usize))
     .collect();
-    let pocket_sets = pockets.iter().map(|faces| (faces.as_slice(), false));
-    let sets: Vec<(&[usize], bool)> = whole_sets.chain(welded_sets).chain(pocket_sets).collect();
+    let pocket_sets = pockets
+        .iter()
+        .map(|faces| (faces.as_slice(), Source::Pocket));
+    let sets: Vec<(&[usize], Source)> = whole_sets.chain(welded_sets).chain(pocket_sets).collect();
     let seams = Seams::of(mesh, &welded, &control_piece);
     let mut candidates: Vec<(usize, usize, Shape)> = Vec::new();
     // A face goes to the first candidate holding it (a pocket that is also a finer piece once).
     let mut claimed = vec![false; mesh.triangle_count()];
-    for (i, &(faces, welded)) in sets.iter().enumerate() {
+    for (i, &(faces, source)) in sets.iter().enumerate() {
         if faces.iter().any(|&f| claimed[f]) {
             continue;
         }
         let area_m2: f64 = faces.iter().map(|&f| face_area_m2[f]).sum();
         let host = labels[faces[0]] as usize;
-        let small = area_m2 < options.control_area_fraction_max * total_m2
-            && area_m2 > options.control_area_fraction_min * total_m2;
+        let area_max = match source {
+            Source::Pocket => options.pocket_area_fraction_max,
+            Source::Piece | Source::FinerPiece => options.control_area_fraction_max,
+        };
+        let small =
+            area_m2 < area_max * total_m2 && area_m2 > options.control_area_fraction_min * total_m2;
         if !small || part_area_m2[host] < options.control_host_ratio * area_m2 {
             continue;
         }
         let shape = Shape::of(mesh, faces);
         if shape.compactness() >= options.control_compactness_min
             && shape.thickness() >= options.control_thickness_min
-            && (!welded || seams.stands_on_one_face(mesh, faces))
+            && (source != Source::FinerPiece || seams.stands_on_one_face(mesh, faces))
         {
             for &f in faces {
                 claimed[f] = true;
@@ -327,6 +338,17 @@ pub fn respect_pieces(
     }
     let (labels, count) = relabel_by_first_face(&labels);
     (labels, count, report)
+}
+
+/// Where a control candidate comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Source {
+    /// A whole connected piece.
+    Piece,
+    /// A piece split where three or more faces share an edge, inside a larger piece.
+    FinerPiece,
+    /// A pocket of a larger piece's surface behind one crease.
+    Pocket,
 }
 
 /// Where pieces split at shared edges still share vertices with other pieces.

@@ -1,13 +1,14 @@
-//! Controls modelled into a surface: a knob or a button drawn as a bump of the panel's own
-//! surface shares the panel's edges (no seam, no edge of three faces sets it apart), but it
-//! meets the panel along a crease, and everything of it lies behind that crease.
+//! Parts modelled into a surface: a knob or a button drawn as a bump of the panel's own surface,
+//! or a cap drawn onto its bottle's neck, shares the edges of what it sits on (no seam, no edge
+//! of three faces sets it apart), but it meets it along a crease, and everything of it lies
+//! behind that crease.
 //!
 //! The surface is cut along its creases into smooth regions. A pocket is a set of small
 //! regions that only one region (its host) separates from the rest of the mesh: removing the
 //! host leaves them a component of their own, as a button's top and wall are once the panel
 //! around it is gone, while a strip of a bevel leads on to further regions. Measured on the
 //! shared PartNet-Mobility objects, the oven knobs, camera buttons and microwave dials welded
-//! into their panels are pockets of their panel.
+//! into their panels are pockets of their panel, and two bottles' caps pockets of their necks.
 
 use uniphys_geometry::{DVec3, TriMesh};
 
@@ -40,17 +41,25 @@ pub fn crease_pockets(
     let mut order: Vec<usize> = (0..regions).collect();
     order.sort_by(|&a, &b| region_m2[b].total_cmp(&region_m2[a]).then(a.cmp(&b)));
     let mut taken = vec![false; regions];
+    let mut reached = Reached {
+        host: vec![0; regions],
+        current: 0,
+        search: vec![0; regions],
+        current_search: 0,
+    };
     let mut pockets: Vec<Vec<usize>> = Vec::new();
     for &host in &order {
         if region_m2[host] < host_ratio * min_m2 {
             break;
         }
+        reached.current += 1;
         for &start in &neighbours[host] {
             let start = start as usize;
             if taken[start] || region_m2[start] >= max_m2 {
                 continue;
             }
-            let Some(members) = behind(host, start, &neighbours, &region_m2, max_m2) else {
+            let found = behind((host, start), &neighbours, &region_m2, max_m2, &mut reached);
+            let Some(members) = found else {
                 continue;
             };
             let area_m2: f64 = members.iter().map(|&r| region_m2[r]).sum();
@@ -80,16 +89,35 @@ pub fn crease_pockets(
         .collect()
 }
 
+/// What the searches for pockets have reached.
+struct Reached {
+    /// Per region, the host whose search last reached it (hosts numbered from 1).
+    host: Vec<u32>,
+    /// The host being searched behind.
+    current: u32,
+    /// Per region, the search that last reached it (searches numbered from 1).
+    search: Vec<u32>,
+    /// The search running.
+    current_search: u32,
+}
+
 /// The regions reached from `start` without passing `host`, if they stay under `max_m2` and
-/// [`POCKET_REGIONS_MAX`] regions (breadth first).
+/// [`POCKET_REGIONS_MAX`] regions (breadth first). Regions an earlier search behind the same
+/// host reached without making a pocket of them lead on past the limits: reaching one fails.
 fn behind(
-    host: usize,
-    start: usize,
+    (host, start): (usize, usize),
     neighbours: &[Vec<u32>],
     region_m2: &[f64],
     max_m2: f64,
+    reached: &mut Reached,
 ) -> Option<Vec<usize>> {
+    if reached.host[start] == reached.current {
+        return None;
+    }
+    reached.current_search += 1;
     let mut members = vec![start];
+    reached.host[start] = reached.current;
+    reached.search[start] = reached.current_search;
     let mut area_m2 = region_m2[start];
     let mut next = 0;
     while next < members.len() {
@@ -97,9 +125,14 @@ fn behind(
         next += 1;
         for &n in &neighbours[r] {
             let n = n as usize;
-            if n == host || members.contains(&n) {
+            if n == host || reached.search[n] == reached.current_search {
                 continue;
             }
+            if reached.host[n] == reached.current {
+                return None;
+            }
+            reached.host[n] = reached.current;
+            reached.search[n] = reached.current_search;
             members.push(n);
             area_m2 += region_m2[n];
             if area_m2 >= max_m2 || members.len() > POCKET_REGIONS_MAX {
