@@ -494,15 +494,15 @@ fn split_two_big_pieces(
         // Smaller first; of two equal pieces (a pair of mirror-image doors) the one numbered
         // first (a hash map's order made the choice differ run to run).
         big.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        if let [(smaller, _), (larger, _)] = big[..] {
-            if !nested(
+        if let [(smaller, _), (larger, _)] = big[..]
+            && !nested(
                 mesh,
                 &faces_of[smaller as usize],
                 &faces_of[larger as usize],
-            ) {
-                moved.push((u32::try_from(p).unwrap_or(u32::MAX), smaller, next));
-                next += 1;
-            }
+            )
+        {
+            moved.push((u32::try_from(p).unwrap_or(u32::MAX), smaller, next));
+            next += 1;
         }
     }
     for (l, &q) in labels.iter_mut().zip(piece) {
