@@ -75,7 +75,9 @@ pub struct DecomposeSummary {
     pub pieces: usize,
     /// Pieces the steps before had cut between parts, made whole again.
     pub pieces_made_whole: usize,
-    /// Small compact pieces (knobs, buttons) split off the larger part they had been merged into.
+    /// Small compact pieces (knobs, buttons), also those drawn into a larger piece's surface, and
+    /// caps drawn onto a neck (pockets behind one crease), split off the larger part they had
+    /// been merged into.
     pub controls_kept: usize,
     /// Parts made of two big pieces side by side (a laptop's screen and base) split in two.
     #[serde(default)]

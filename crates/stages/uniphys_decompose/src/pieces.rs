@@ -91,7 +91,8 @@ pub struct PieceReport {
     pub pieces: usize,
     /// Pieces that were cut between parts and made whole again.
     pub pieces_made_whole: usize,
-    /// Small compact pieces split off the part they had been merged into.
+    /// Small compact pieces, and pockets of a larger piece's surface behind one crease, split
+    /// off the part they had been merged into.
     pub controls_kept: usize,
     /// Parts of two big pieces side by side split in two (a laptop's screen and base).
     pub parts_split_in_two: usize,
