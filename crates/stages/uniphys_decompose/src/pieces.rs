@@ -27,6 +27,7 @@
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
+use crate::candidates::adjacency::{edge_runs, welded_edges};
 use crate::candidates::{UnionFind, relabel_by_first_face, welded_vertex_ids};
 use crate::pockets::crease_pockets;
 use crate::round::{round_about, round_axis};
@@ -134,44 +135,15 @@ pub fn manifold_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
 /// [`manifold_pieces`] with the welded vertex ids given.
 fn manifold_pieces_of(mesh: &TriMesh, welded: &[u32]) -> (Vec<u32>, usize) {
     let faces = mesh.triangle_count();
-    // One face stands for every face over the same welded vertices.
-    let mut keyed: Vec<([u32; 3], u32)> = mesh
-        .triangles
-        .iter()
-        .enumerate()
-        .map(|(f, t)| {
-            let mut key = t.map(|v| welded[v as usize]);
-            key.sort_unstable();
-            (key, u32::try_from(f).unwrap_or(u32::MAX))
-        })
-        .collect();
-    keyed.sort_unstable();
+    let (edges, stands_for) = welded_edges(mesh, welded);
     let mut uf = UnionFind::new(faces);
-    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(faces * 3);
-    for (i, &(key, f)) in keyed.iter().enumerate() {
-        if i > 0 && keyed[i - 1].0 == key {
-            uf.union(keyed[i - 1].1, f);
-            continue;
-        }
-        let [a, b, c] = key;
-        for (u, v) in [(a, b), (b, c), (a, c)] {
-            if u != v {
-                edges.push((u, v, f));
-            }
-        }
+    for (f, &to) in stands_for.iter().enumerate() {
+        uf.union(u32::try_from(f).unwrap_or(u32::MAX), to);
     }
-    edges.sort_unstable();
-    let mut start = 0;
-    while start < edges.len() {
-        let (u, v, _) = edges[start];
-        let mut end = start + 1;
-        while end < edges.len() && edges[end].0 == u && edges[end].1 == v {
-            end += 1;
+    for run in edge_runs(&edges) {
+        if let [(_, _, f), (_, _, g)] = run {
+            uf.union(*f, *g);
         }
-        if end - start == 2 {
-            uf.union(edges[start].2, edges[start + 1].2);
-        }
-        start = end;
     }
     let roots: Vec<u32> = (0..u32::try_from(faces).unwrap_or(u32::MAX))
         .map(|f| uf.find(f))
