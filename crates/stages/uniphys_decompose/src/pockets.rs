@@ -145,7 +145,8 @@ fn behind(
 }
 
 /// Smooth regions: faces joined across edges of exactly two faces whose normals are within
-/// `crease_rad` (either orientation; a face without area joins both sides). Returns the region of every face and their count.
+/// `crease_rad` (either orientation; a face without area joins both sides). Returns the region
+/// of every face and their count.
 fn smooth_regions(mesh: &TriMesh, welded: &[u32], crease_rad: f64) -> (Vec<u32>, usize) {
     let (edges, stands_for) = welded_edges(mesh, welded);
     let normals: Vec<DVec3> = (0..mesh.triangle_count())

@@ -235,8 +235,8 @@ fn the_knobs_drawn_into_an_ovens_panel_are_parts_of_their_own() {
 
 #[test]
 fn the_buttons_drawn_into_a_cameras_body_are_parts_of_their_own() {
-    // Five buttons modelled into the surface of the camera's body (a square crease around
-    // each), 0.006-0.02 % of its area each.
+    // Five buttons modelled into the surface of the camera's body (a right-angled crease
+    // around each), 0.006-0.02 % of its area each.
     assert_small_recovered("kitchen-102523", JointKind::Prismatic, 5, "button");
 }
 
@@ -251,7 +251,7 @@ fn a_cap_drawn_onto_its_bottles_neck_is_a_part_of_its_own() {
 #[test]
 fn decomposing_a_refrigerator_again_gives_the_same_parts() {
     // Two big pieces of equal area in one part: which one was split off followed a hash map's
-    // order, and 3 runs in 8 found 3 parts instead of 4.
+    // order, and 3 runs in 8 gave another part count than the rest.
     let (_, _, _, first) = decomposed("kitchen-12249");
     for _ in 0..4 {
         assert_eq!(decomposed("kitchen-12249").3.face_part, first.face_part);
