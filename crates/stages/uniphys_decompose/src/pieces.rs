@@ -27,7 +27,7 @@
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range};
 
-use crate::candidates::adjacency::{edge_runs, welded_edges};
+use crate::candidates::adjacency::WeldedEdges;
 use crate::candidates::{UnionFind, relabel_by_first_face, welded_vertex_ids};
 use crate::pockets::crease_pockets;
 use crate::round::{round_about, round_axis};
@@ -129,18 +129,17 @@ fn pieces_of(mesh: &TriMesh, welded: &[u32]) -> (Vec<u32>, usize) {
 /// three or more faces and the two are separate pieces.
 #[must_use]
 pub fn manifold_pieces(mesh: &TriMesh) -> (Vec<u32>, usize) {
-    manifold_pieces_of(mesh, &welded_vertex_ids(mesh))
+    manifold_pieces_of(mesh, &WeldedEdges::new(mesh, &welded_vertex_ids(mesh)))
 }
 
-/// [`manifold_pieces`] with the welded vertex ids given.
-fn manifold_pieces_of(mesh: &TriMesh, welded: &[u32]) -> (Vec<u32>, usize) {
+/// [`manifold_pieces`] with the mesh's welded edges given.
+fn manifold_pieces_of(mesh: &TriMesh, edges: &WeldedEdges) -> (Vec<u32>, usize) {
     let faces = mesh.triangle_count();
-    let (edges, stands_for) = welded_edges(mesh, welded);
     let mut uf = UnionFind::new(faces);
-    for (f, &to) in stands_for.iter().enumerate() {
+    for (f, &to) in edges.stands_for.iter().enumerate() {
         uf.union(u32::try_from(f).unwrap_or(u32::MAX), to);
     }
-    for run in edge_runs(&edges) {
+    for run in edges.runs() {
         if let [(_, _, f), (_, _, g)] = run {
             uf.union(*f, *g);
         }
@@ -223,7 +222,8 @@ pub fn respect_pieces(
     // Candidates: small compact solid pieces inside a much larger part, with their shape. A
     // welded piece too large to be a control is looked into: split at edges three or more faces
     // share, a button modelled onto its panel is a piece of its own.
-    let (control_piece, control_pieces) = manifold_pieces_of(mesh, &welded);
+    let welded_edges = WeldedEdges::new(mesh, &welded);
+    let (control_piece, control_pieces) = manifold_pieces_of(mesh, &welded_edges);
     let mut sub_pieces: Vec<Vec<usize>> = vec![Vec::new(); control_pieces];
     for (f, &p) in control_piece.iter().enumerate() {
         sub_pieces[p as usize].push(f);
@@ -244,7 +244,7 @@ pub fn respect_pieces(
     // neck: a pocket behind one crease.
     let pockets: Vec<Vec<usize>> = crease_pockets(
         mesh,
-        &welded,
+        &welded_edges,
         &face_area_m2,
         options.control_crease_rad,
         (

@@ -13,7 +13,7 @@
 use uniphys_geometry::{DVec3, TriMesh};
 
 use crate::candidates::UnionFind;
-use crate::candidates::adjacency::{edge_runs, welded_edges};
+use crate::candidates::adjacency::WeldedEdges;
 
 /// Most regions a pocket may hold (beyond it the search stops: a control is a few smooth
 /// surfaces).
@@ -21,24 +21,24 @@ const POCKET_REGIONS_MAX: usize = 400;
 
 /// The pockets of `mesh` whose area lies in `(min_m2, max_m2)` and whose host has at least
 /// `host_ratio` times their area, each as its faces (sorted), in the order of their hosts
-/// (largest first). `welded` gives each vertex its welded id; two faces sharing an edge are in
+/// (largest first). `edges` are the mesh's welded edges; two faces sharing an edge are in
 /// one smooth region when their normals are within `crease_rad` of each other (either
 /// orientation: a model's winding is not trusted).
 #[must_use]
 pub fn crease_pockets(
     mesh: &TriMesh,
-    welded: &[u32],
+    edges: &WeldedEdges,
     face_area_m2: &[f64],
     crease_rad: f64,
     (min_m2, max_m2): (f64, f64),
     host_ratio: f64,
 ) -> Vec<Vec<usize>> {
-    let (region, regions) = smooth_regions(mesh, welded, crease_rad);
+    let (region, regions) = smooth_regions(mesh, edges, crease_rad);
     let mut region_m2 = vec![0.0f64; regions];
     for (f, &r) in region.iter().enumerate() {
         region_m2[r as usize] += face_area_m2[f];
     }
-    let neighbours = region_neighbours(mesh, welded, &region, regions);
+    let neighbours = region_neighbours(edges, &region, regions);
     let mut order: Vec<usize> = (0..regions).collect();
     order.sort_by(|&a, &b| region_m2[b].total_cmp(&region_m2[a]).then(a.cmp(&b)));
     let mut taken = vec![false; regions];
@@ -147,17 +147,16 @@ fn behind(
 /// Smooth regions: faces joined across edges of exactly two faces whose normals are within
 /// `crease_rad` (either orientation; a face without area joins both sides). Returns the region
 /// of every face and their count.
-fn smooth_regions(mesh: &TriMesh, welded: &[u32], crease_rad: f64) -> (Vec<u32>, usize) {
-    let (edges, stands_for) = welded_edges(mesh, welded);
+fn smooth_regions(mesh: &TriMesh, edges: &WeldedEdges, crease_rad: f64) -> (Vec<u32>, usize) {
     let normals: Vec<DVec3> = (0..mesh.triangle_count())
         .map(|f| mesh.face_normal(f))
         .collect();
     let smooth_cos = crease_rad.cos();
     let mut uf = UnionFind::new(mesh.triangle_count());
-    for (f, &to) in stands_for.iter().enumerate() {
+    for (f, &to) in edges.stands_for.iter().enumerate() {
         uf.union(u32::try_from(f).unwrap_or(u32::MAX), to);
     }
-    for run in edge_runs(&edges) {
+    for run in edges.runs() {
         if let [(_, _, f), (_, _, g)] = run {
             let (a, b) = (normals[*f as usize], normals[*g as usize]);
             // A face without a normal (no area) is no crease.
@@ -174,15 +173,9 @@ fn smooth_regions(mesh: &TriMesh, welded: &[u32], crease_rad: f64) -> (Vec<u32>,
 
 /// For every region, the regions it meets along an edge (a crease, or an edge of three or
 /// more faces), sorted.
-fn region_neighbours(
-    mesh: &TriMesh,
-    welded: &[u32],
-    region: &[u32],
-    regions: usize,
-) -> Vec<Vec<u32>> {
-    let (edges, _) = welded_edges(mesh, welded);
+fn region_neighbours(edges: &WeldedEdges, region: &[u32], regions: usize) -> Vec<Vec<u32>> {
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); regions];
-    for run in edge_runs(&edges) {
+    for run in edges.runs() {
         for (i, &(_, _, f)) in run.iter().enumerate() {
             for &(_, _, g) in &run[i + 1..] {
                 let (a, b) = (region[f as usize], region[g as usize]);
@@ -265,7 +258,7 @@ mod tests {
         let total: f64 = areas.iter().sum();
         crease_pockets(
             mesh,
-            &welded_vertex_ids(mesh),
+            &WeldedEdges::new(mesh, &welded_vertex_ids(mesh)),
             &areas,
             30f64.to_radians(),
             (1e-5 * total, 0.05 * total),

@@ -43,42 +43,56 @@ pub fn welded_vertex_ids(mesh: &TriMesh) -> Vec<u32> {
     ids
 }
 
-/// The edges of `mesh` over welded vertices, each with the faces using it: faces over the same
+/// The edges of a mesh over welded vertices, each with the faces using it: faces over the same
 /// three welded vertices (the two sides of a double-sided surface) count once, their first
-/// standing for all, and a face over fewer has none. Returns the edges `(u, v, face)` sorted,
-/// and for each face the face that stands for it.
-pub(crate) fn welded_edges(mesh: &TriMesh, welded: &[u32]) -> (Vec<(u32, u32, u32)>, Vec<u32>) {
-    let mut keyed: Vec<([u32; 3], u32)> = mesh
-        .triangles
-        .iter()
-        .enumerate()
-        .map(|(f, t)| {
-            let mut key = t.map(|v| welded[v as usize]);
-            key.sort_unstable();
-            (key, u32::try_from(f).unwrap_or(u32::MAX))
-        })
-        .collect();
-    keyed.sort_unstable();
-    let mut stands_for: Vec<u32> = (0..u32::try_from(keyed.len()).unwrap_or(u32::MAX)).collect();
-    let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(keyed.len() * 3);
-    for (i, &(key, f)) in keyed.iter().enumerate() {
-        if i > 0 && keyed[i - 1].0 == key {
-            stands_for[f as usize] = stands_for[keyed[i - 1].1 as usize];
-            continue;
-        }
-        let [a, b, c] = key;
-        // A face over fewer than three welded vertices has no area and no edges of its own.
-        if a != b && b != c {
-            edges.extend([(a, b, f), (b, c, f), (a, c, f)]);
-        }
-    }
-    edges.sort_unstable();
-    (edges, stands_for)
+/// standing for all, and a face over fewer has none. Listed once, read by the manifold split
+/// and the pocket search alike.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct WeldedEdges {
+    /// Edges `(u, v, face)` over welded vertex ids `u < v`, sorted.
+    pub edges: Vec<(u32, u32, u32)>,
+    /// For each face, the face that stands for it (itself, or the first over the same three
+    /// welded vertices).
+    pub stands_for: Vec<u32>,
 }
 
-/// Runs of `edges` over the same two vertices: the faces around each edge.
-pub(crate) fn edge_runs(edges: &[(u32, u32, u32)]) -> impl Iterator<Item = &[(u32, u32, u32)]> {
-    edges.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
+impl WeldedEdges {
+    /// The welded edges of `mesh`; `welded` from [`welded_vertex_ids`].
+    #[must_use]
+    pub fn new(mesh: &TriMesh, welded: &[u32]) -> Self {
+        let mut keyed: Vec<([u32; 3], u32)> = mesh
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(f, t)| {
+                let mut key = t.map(|v| welded[v as usize]);
+                key.sort_unstable();
+                (key, u32::try_from(f).unwrap_or(u32::MAX))
+            })
+            .collect();
+        keyed.sort_unstable();
+        let mut stands_for: Vec<u32> =
+            (0..u32::try_from(keyed.len()).unwrap_or(u32::MAX)).collect();
+        let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(keyed.len() * 3);
+        for (i, &(key, f)) in keyed.iter().enumerate() {
+            if i > 0 && keyed[i - 1].0 == key {
+                stands_for[f as usize] = stands_for[keyed[i - 1].1 as usize];
+                continue;
+            }
+            let [a, b, c] = key;
+            // A face over fewer than three welded vertices has no area and no edges of its own.
+            if a != b && b != c {
+                edges.extend([(a, b, f), (b, c, f), (a, c, f)]);
+            }
+        }
+        edges.sort_unstable();
+        Self { edges, stands_for }
+    }
+
+    /// Runs of edges over the same two vertices: the faces around each edge.
+    pub fn runs(&self) -> impl Iterator<Item = &[(u32, u32, u32)]> {
+        self.edges.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1)
+    }
 }
 
 /// A face pair, its shared welded edge and whether the edge is manifold.
