@@ -75,9 +75,28 @@ fn ious_of_kind(motion: &[Option<JointKind>], ious: &[f64], kind: JointKind) -> 
 /// `kind` (named `what` in the message) is recovered (area IoU >= 0.5); returns the
 /// decomposition.
 fn assert_all_recovered(name: &str, kind: JointKind, count: usize, what: &str) -> Decomposition {
+    assert_recovered(name, (kind, f64::INFINITY), count, what)
+}
+
+/// [`assert_all_recovered`] for the true parts moving on a joint of `kind` that hold less than
+/// `area_share_max` of the object's area (controls, not the doors beside them).
+fn assert_recovered(
+    name: &str,
+    (kind, area_share_max): (JointKind, f64),
+    count: usize,
+    what: &str,
+) -> Decomposition {
     let (mesh, truth, motion, decomposition) = decomposed(name);
     let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let moving = ious_of_kind(&motion, &ious, kind);
+    let mut area_m2 = vec![0.0f64; motion.len()];
+    for (f, &t) in truth.iter().enumerate() {
+        area_m2[t as usize] += mesh.face_area(f);
+    }
+    let total_m2: f64 = area_m2.iter().sum();
+    let moving: Vec<f64> = (0..motion.len())
+        .filter(|&p| motion[p] == Some(kind) && area_m2[p] < area_share_max * total_m2)
+        .map(|p| ious[p])
+        .collect();
     assert_eq!(moving.len(), count);
     assert!(
         moving.iter().all(|&iou| iou >= 0.5),
@@ -202,42 +221,32 @@ fn a_laptop_whose_views_merge_its_screen_into_its_base_comes_back_as_two_parts()
     assert_all_recovered("gensim2-11242", JointKind::Revolute, 1, "screen");
 }
 
-/// Decomposes `name` and checks that each of its `count` true parts moving on a joint of
-/// `kind` and holding under 1 % of the object's area (controls, not the doors beside them) is
-/// recovered.
-fn assert_small_recovered(name: &str, kind: JointKind, count: usize, what: &str) {
-    let (mesh, truth, motion, decomposition) = decomposed(name);
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let mut area_m2 = vec![0.0f64; motion.len()];
-    for (f, &t) in truth.iter().enumerate() {
-        area_m2[t as usize] += mesh.face_area(f);
-    }
-    let total_m2: f64 = area_m2.iter().sum();
-    let small: Vec<f64> = (0..motion.len())
-        .filter(|&p| motion[p] == Some(kind) && area_m2[p] < 0.01 * total_m2)
-        .map(|p| ious[p])
-        .collect();
-    assert_eq!(small.len(), count);
-    assert!(
-        small.iter().all(|&iou| iou >= 0.5),
-        "{what} IoUs {small:?}; summary {:?}",
-        decomposition.summary
-    );
-}
+/// Controls hold less than this share of their object's area.
+const CONTROL_AREA_SHARE: f64 = 0.01;
 
 #[test]
 fn the_knobs_drawn_into_an_ovens_panel_are_parts_of_their_own() {
     // The oven is one connected piece: each of its seven knobs is a bump of the panel's own
     // surface, meeting it along a 35-degree crease and sharing its edges (no edge of three
     // faces). All seven were merged away until pockets behind one crease were kept.
-    assert_small_recovered("kitchen-101808", JointKind::Revolute, 7, "knob");
+    assert_recovered(
+        "kitchen-101808",
+        (JointKind::Revolute, CONTROL_AREA_SHARE),
+        7,
+        "knob",
+    );
 }
 
 #[test]
 fn the_buttons_drawn_into_a_cameras_body_are_parts_of_their_own() {
     // Five buttons modelled into the surface of the camera's body (a right-angled crease
     // around each), 0.006-0.02 % of its area each.
-    assert_small_recovered("kitchen-102523", JointKind::Prismatic, 5, "button");
+    assert_recovered(
+        "kitchen-102523",
+        (JointKind::Prismatic, CONTROL_AREA_SHARE),
+        5,
+        "button",
+    );
 }
 
 #[test]
@@ -262,5 +271,10 @@ fn decomposing_a_refrigerator_again_gives_the_same_parts() {
 fn the_dials_drawn_into_a_microwaves_panel_are_parts_of_their_own() {
     // Two dials (continuous joints) modelled into the control panel's surface; before pockets
     // were kept, the microwave came out as two parts and neither dial was one.
-    assert_small_recovered("kitchen-7167", JointKind::Continuous, 2, "dial");
+    assert_recovered(
+        "kitchen-7167",
+        (JointKind::Continuous, CONTROL_AREA_SHARE),
+        2,
+        "dial",
+    );
 }
