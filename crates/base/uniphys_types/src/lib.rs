@@ -34,4 +34,4 @@ pub use properties::{Descriptions, ObjectProperties, PartProperties};
 pub use provenance::{Estimate, Provenance};
 pub use report::{CheckOutcome, CheckResult, ReportSection, VerificationReport};
 pub use service_stage::ServiceStage;
-pub use summary::{ConvertSummary, DatasetFacts};
+pub use summary::{ConvertSummary, DatasetFacts, DecomposeStageSummary, IngestSummary};

@@ -1,11 +1,77 @@
-//! What the service's `convert` stage reports of one asset (its manifest's summary), written by
-//! the worker and read back by the API's batch statistics: one type on both sides.
+//! What the service's stages report of one asset (their manifests' summaries), written by the
+//! worker and read back by the API's batch statistics and the worker's own tests: one type per
+//! stage on both sides. `ingest` reports the file it read ([`IngestSummary`]), `decompose`
+//! whether and how it split the mesh ([`DecomposeStageSummary`]), `convert` the finished asset
+//! ([`ConvertSummary`]).
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
 use crate::AssetRecord;
+
+/// The `ingest` stage's summary of one source file: its `summary.json`, and (with the warnings
+/// cut to the first few, [`IngestSummary::for_manifest`]) its manifest's summary.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct IngestSummary {
+    /// The submitted file's name.
+    pub file: String,
+    /// Parts as read.
+    pub parts: usize,
+    /// Triangles as read.
+    pub triangles: usize,
+    /// Joints the file declares.
+    pub declared_joints: usize,
+    /// Triangles dropped as degenerate.
+    pub dropped_degenerate_triangles: usize,
+    /// What the reader warned of (missing textures, ...), named by their place in the asset's
+    /// folder; in the manifest only the first few.
+    pub warnings: Vec<String>,
+    /// How many warnings there were, when `warnings` holds only the first few (the manifest).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warning_count: Option<usize>,
+}
+
+impl IngestSummary {
+    /// The summary as a run's manifest carries it: the warnings' count and the first
+    /// `max_warnings` (a URDF folder can warn hundreds of times, one per missing texture, and a
+    /// manifest stays small).
+    #[must_use]
+    pub fn for_manifest(&self, max_warnings: usize) -> Self {
+        Self {
+            warnings: self.warnings.iter().take(max_warnings).cloned().collect(),
+            warning_count: Some(self.warnings.len()),
+            ..self.clone()
+        }
+    }
+}
+
+/// The `decompose` stage's summary of one asset: whether it split the mesh into parts, how many,
+/// and who found them; or why the input kept its own parts.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct DecomposeStageSummary {
+    /// The mesh was split into parts (false: the input keeps its own).
+    pub decomposed: bool,
+    /// Parts after the stage.
+    pub parts: usize,
+    /// Parts of the input, when it was decomposed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub input_parts: Option<usize>,
+    /// Why the input kept its parts, when it was not decomposed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Who segmented the views (the provider's name), when it was decomposed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segmenter: Option<String>,
+    /// Who generated the part candidates, when it was decomposed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub generator: Option<String>,
+    /// Seconds the decomposition took, when it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub secs: Option<f64>,
+}
 
 /// The `convert` stage's summary of one asset. Every field has a default, so a summary written
 /// by an older stage version (without `dataset`) still reads.
@@ -67,5 +133,48 @@ impl DatasetFacts {
             materials,
             joint_types,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_ingest_manifest_keeps_the_count_and_the_first_warnings() {
+        let summary = IngestSummary {
+            file: "mobility.urdf".into(),
+            parts: 3,
+            warnings: (0..8).map(|i| format!("texture {i} is missing")).collect(),
+            ..IngestSummary::default()
+        };
+        let written = serde_json::to_value(&summary).expect("json");
+        assert!(written.get("warning_count").is_none(), "{written}");
+        let manifest = summary.for_manifest(5);
+        assert_eq!(manifest.warning_count, Some(8));
+        assert_eq!(manifest.warnings, summary.warnings[..5]);
+        let read: IngestSummary =
+            serde_json::from_value(serde_json::to_value(&manifest).expect("json")).expect("read");
+        assert_eq!(read, manifest);
+    }
+
+    #[test]
+    fn a_decompose_summary_names_only_what_happened() {
+        let kept = DecomposeStageSummary {
+            decomposed: false,
+            parts: 2,
+            reason: Some("kept the input's 2 parts".into()),
+            ..DecomposeStageSummary::default()
+        };
+        let written = serde_json::to_value(&kept).expect("json");
+        let keys: Vec<&str> = written
+            .as_object()
+            .expect("object")
+            .keys()
+            .map(String::as_str)
+            .collect();
+        assert_eq!(keys, ["decomposed", "parts", "reason"]);
+        let read: DecomposeStageSummary = serde_json::from_value(written).expect("read");
+        assert_eq!(read, kept);
     }
 }

@@ -70,7 +70,11 @@ impl OutputWriter {
     }
 
     /// Writes `value` as pretty-printed JSON named `name`, as [`OutputWriter::put`] does.
-    pub fn put_json(&mut self, name: &str, value: &serde_json::Value) -> Result<(), StageError> {
+    pub fn put_json(
+        &mut self,
+        name: &str,
+        value: &impl serde::Serialize,
+    ) -> Result<(), StageError> {
         let bytes = serde_json::to_vec_pretty(value)
             .map_err(|e| StageError::Permanent(format!("encoding {name}: {e}")))?;
         self.put(name, bytes)
@@ -125,4 +129,12 @@ impl OutputWriter {
             summary,
         }
     }
+}
+
+/// A stage's typed summary as its run's manifest stores it.
+pub(crate) fn summary_value(
+    summary: &impl serde::Serialize,
+) -> Result<serde_json::Value, StageError> {
+    serde_json::to_value(summary)
+        .map_err(|e| StageError::Permanent(format!("the summary could not be written: {e}")))
 }

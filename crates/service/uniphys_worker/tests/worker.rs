@@ -14,6 +14,7 @@ use uniphys_queue::{
 };
 use uniphys_storage::ArtifactStore;
 use uniphys_telemetry::Metrics;
+use uniphys_types::{ConvertSummary, DecomposeStageSummary, IngestSummary};
 use uniphys_worker::{
     OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry, StageSlots, Worker,
     WorkerConfig, pipeline_job_spec,
@@ -279,14 +280,14 @@ async fn a_real_urdf_folder_sent_as_an_archive_is_converted_with_its_joints() {
     assert_eq!(record["source"]["file_name"], "mobility.urdf");
     // The ingest run's manifest stays small: the warnings' count and the first few.
     let ingest = job.stage("ingest").expect("ingest");
-    let summary = &OutputManifest::from_value(ingest.output_manifest.as_ref().expect("manifest"))
-        .expect("shape")
-        .summary;
-    assert!(
-        summary["warning_count"].as_u64().is_some_and(|n| n > 5),
-        "{summary}"
-    );
-    assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(5));
+    let summary: IngestSummary = serde_json::from_value(
+        OutputManifest::from_value(ingest.output_manifest.as_ref().expect("manifest"))
+            .expect("shape")
+            .summary,
+    )
+    .expect("an ingest summary");
+    assert!(summary.warning_count.is_some_and(|n| n > 5), "{summary:?}");
+    assert_eq!(summary.warnings.len(), 5);
     // Nothing written names the worker's temporary folder: a retry elsewhere writes the same.
     let temp = std::env::temp_dir().display().to_string();
     for name in ["report.json", "record.json"] {
@@ -380,31 +381,21 @@ async fn an_asset_in_one_piece_is_decomposed_and_converted_with_the_found_parts(
         OutputManifest::from_value(run.output_manifest.as_ref().expect("manifest")).expect("shape")
     };
     let decompose = manifest("decompose");
-    assert_eq!(
-        decompose.summary["decomposed"], true,
-        "{}",
-        decompose.summary
-    );
+    let summary: DecomposeStageSummary =
+        serde_json::from_value(decompose.summary.clone()).expect("a decompose summary");
+    assert!(summary.decomposed, "{summary:?}");
+    assert_eq!(summary.input_parts, Some(1), "{summary:?}");
     // The box and its lid, no more and no fewer.
-    let found = decompose.summary["parts"].as_u64().expect("part count");
-    assert_eq!(
-        found,
-        example.asset.parts.len() as u64,
-        "{}",
-        decompose.summary
-    );
+    let found = summary.parts as u64;
+    assert_eq!(found, example.asset.parts.len() as u64, "{summary:?}");
     let entry = decompose.artifact("face_parts.json").expect("face map");
     let face_parts: Vec<u32> =
         serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("map")).expect("json");
     assert_eq!(face_parts.len(), example.asset.merged().triangle_count());
     // convert built the asset from the found parts, not from the one piece submitted.
-    let convert = manifest("convert");
-    assert_eq!(
-        convert.summary["parts"].as_u64(),
-        Some(found),
-        "{}",
-        convert.summary
-    );
+    let convert: ConvertSummary =
+        serde_json::from_value(manifest("convert").summary).expect("a convert summary");
+    assert_eq!(convert.parts as u64, found, "{convert:?}");
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
@@ -429,10 +420,13 @@ async fn an_asset_with_its_own_parts_keeps_them() {
     };
     shutdown.cancel();
     handle.await.expect("worker stops");
-    assert_eq!(
-        decompose.summary["decomposed"], false,
-        "{}",
-        decompose.summary
+    let summary: DecomposeStageSummary =
+        serde_json::from_value(decompose.summary.clone()).expect("a decompose summary");
+    assert!(!summary.decomposed, "{summary:?}");
+    assert!(
+        summary
+            .reason
+            .is_some_and(|r| r.contains("kept the input's"))
     );
     assert!(decompose.artifact("face_parts.json").is_none());
 }

@@ -10,7 +10,7 @@ use serde_json::Value;
 use uniphys_pipeline::{PipelineError, Progress, RunOptions, Stage as PipelineStage, run};
 use uniphys_types::{ConvertSummary, DatasetFacts, ServiceStage};
 
-use crate::outputs::OutputWriter;
+use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::decompose::FACE_PARTS_FILE;
@@ -93,8 +93,7 @@ impl Stage for ConvertStage {
                 .collect(),
             dataset: Some(DatasetFacts::of(&output.record)),
         };
-        serde_json::to_value(summary)
-            .map_err(|e| StageError::Permanent(format!("the summary could not be written: {e}")))
+        summary_value(&summary)
     }
 }
 

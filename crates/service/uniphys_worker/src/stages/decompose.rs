@@ -5,16 +5,16 @@
 //! `convert` applies `face_parts.json` to the same input, so the parts keep their materials.
 //! An input that keeps its own parts gets a summary only.
 
-use serde_json::{Value, json};
+use serde_json::Value;
 use uniphys_decompose::{
     DecomposeError, DecomposeMode, DecomposeOptions, decompose_asset, generator_for, segmenter_for,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_types::ServiceStage;
+use uniphys_types::{DecomposeStageSummary, ServiceStage};
 use uniphys_vision::ClientConfig;
 
 use crate::input_error::unreadable;
-use crate::outputs::OutputWriter;
+use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 
@@ -68,18 +68,19 @@ impl Stage for DecomposeStage {
             load_asset(source.path(), &self.ingest).map_err(|e| unreadable(&source, &e))?;
         let asset = loaded.asset;
         if !self.mode.applies_to(&asset) {
-            let summary = json!({
-                "decomposed": false,
-                "parts": asset.parts.len(),
-                "reason": format!(
+            let summary = DecomposeStageSummary {
+                decomposed: false,
+                parts: asset.parts.len(),
+                reason: Some(format!(
                     "kept the input's {} parts ({} declared joints; mode {:?})",
                     asset.parts.len(),
                     asset.joints.len(),
                     self.mode
-                ),
-            });
+                )),
+                ..DecomposeStageSummary::default()
+            };
             out.put_json("decompose.json", &summary)?;
-            return Ok(summary);
+            return summary_value(&summary);
         }
         control.check()?;
         control.progress(0.2, "decomposing");
@@ -100,13 +101,14 @@ impl Stage for DecomposeStage {
             out.put(&path, bytes)?;
         }
         let summary = &decomposition.summary;
-        Ok(json!({
-            "decomposed": true,
-            "input_parts": asset.parts.len(),
-            "parts": decomposition.part_count,
-            "segmenter": summary.segmenter,
-            "generator": summary.generator,
-            "secs": summary.total_secs(),
-        }))
+        summary_value(&DecomposeStageSummary {
+            decomposed: true,
+            parts: decomposition.part_count,
+            input_parts: Some(asset.parts.len()),
+            reason: None,
+            segmenter: Some(summary.segmenter.clone()),
+            generator: Some(summary.generator.clone()),
+            secs: Some(summary.total_secs()),
+        })
     }
 }

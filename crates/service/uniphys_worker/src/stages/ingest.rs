@@ -1,12 +1,12 @@
 //! `ingest`: reads the submitted file with the mesh reader, so a broken input fails fast with a
 //! permanent, readable error before any heavy stage runs; writes a summary of what was read.
 
-use serde_json::{Value, json};
+use serde_json::Value;
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_types::ServiceStage;
+use uniphys_types::{IngestSummary, ServiceStage};
 
 use crate::input_error::unreadable;
-use crate::outputs::OutputWriter;
+use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 
@@ -48,19 +48,16 @@ impl Stage for IngestStage {
             .iter()
             .map(|w| source.without_local_paths(w))
             .collect();
-        let mut summary = json!({
-            "file": source.file_name(),
-            "parts": loaded.asset.parts.len(),
-            "triangles": loaded.asset.triangle_count(),
-            "declared_joints": loaded.asset.joints.len(),
-            "dropped_degenerate_triangles": loaded.dropped_degenerate_triangles,
-            "warnings": warnings,
-        });
+        let summary = IngestSummary {
+            file: source.file_name(),
+            parts: loaded.asset.parts.len(),
+            triangles: loaded.asset.triangle_count(),
+            declared_joints: loaded.asset.joints.len(),
+            dropped_degenerate_triangles: loaded.dropped_degenerate_triangles,
+            warnings,
+            warning_count: None,
+        };
         out.put_json("summary.json", &summary)?;
-        // The run's manifest stays small (a URDF folder can have hundreds of warnings, one per
-        // missing texture): their count and the first few; summary.json has them all.
-        summary["warning_count"] = json!(warnings.len());
-        summary["warnings"] = json!(&warnings[..warnings.len().min(MANIFEST_WARNINGS)]);
-        Ok(summary)
+        summary_value(&summary.for_manifest(MANIFEST_WARNINGS))
     }
 }
