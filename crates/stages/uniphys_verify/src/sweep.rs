@@ -122,6 +122,9 @@ pub struct SweepMetrics {
     /// direction the part travels (toward the far end of its range; 1 straight up); `None`
     /// otherwise.
     pub long_slide_rise: Option<f64>,
+    /// Long slides whose moving part is a broad sheet (a door, a lid, a screen) travelling
+    /// along its own plane rather than across it: `true` (then only a slot holds it).
+    pub long_slide_along_sheet: bool,
     /// Hinges (revolute) whose axis does not cross the plane of a panel: how many of the four
     /// sides across the axis the parent walls the moving parts in on (a drawer turned about its
     /// depth: its slot); 0 for other joints.
@@ -299,6 +302,7 @@ pub fn sweep(
         short_slide_guidance: 0.0,
         long_slide_walled_sides: 4,
         long_slide_rise: None,
+        long_slide_along_sheet: false,
         hinge_slot_walled_sides: 0,
         in_plane_turn: None,
         off_round_spin: None,
@@ -389,6 +393,13 @@ pub fn sweep(
     if short_slide == Some(None) {
         metrics.long_slide_walled_sides =
             walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+        // A lid lifts off its pot across its own plane; a door slid along its cabinet's face is
+        // held by nothing but a slot, whatever ledge it rests on.
+        metrics.long_slide_along_sheet =
+            is_broad_sheet(
+                child_boxed.part_box(),
+                scene.area_m2(joint.child.0 as usize),
+            ) && !axis_across_panel(child_boxed.part_box(), motion.axis_in_object);
         if scene.ground_z_m.is_some() {
             let outward = if upper.abs() >= lower.abs() {
                 1.0

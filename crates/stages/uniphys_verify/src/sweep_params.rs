@@ -83,7 +83,9 @@ pub struct SweepParams {
     pub sheet_contact_fraction_min: f64,
     /// A long slide (a drawer) runs in a slot: its parent walls it in on at least this many of
     /// the four sides across its axis, or it presses into (lifts off) the face it sits on (at
-    /// least `short_slide_press_min`). A door or lid pushed along its own face is in no slot.
+    /// least `short_slide_press_min`) and, when it is a broad sheet, moves across its own plane
+    /// (a lid lifted off its pot; a door lifted along its cabinet's face off the ledge it rests
+    /// on is not). A door or lid pushed along its own face is in no slot.
     pub long_slide_walled_sides_min: usize,
     /// ... and one held only by lifting off that face lifts: on an object standing on the
     /// ground, the direction it travels rises by at least this share (a lid lifted off its

@@ -161,6 +161,13 @@ impl SweepMetrics {
         }
         if self.long_slide_unheld(params) {
             let held = match self.long_slide_sideways(params) {
+                _ if self.long_slide_along_sheet
+                    && self.short_slide_press >= params.short_slide_press_min =>
+                {
+                    "it is a broad sheet (a door, a lid) moved along its own plane: only a slot \
+                     holds a sheet sliding along itself; one lifted off a face moves across it"
+                        .to_owned()
+                }
                 Some(rise) if self.short_slide_press >= params.short_slide_press_min => format!(
                     "it lifts off the face it sits on rising {rise:.2} of its travel (at least {:.2}): only a part lifted up off a face is held by it",
                     params.long_slide_lift_rise_min
@@ -386,6 +393,7 @@ impl SweepMetrics {
     fn long_slide_unheld(&self, params: &SweepParams) -> bool {
         self.long_slide_walled_sides < params.long_slide_walled_sides_min
             && (self.short_slide_press < params.short_slide_press_min
+                || self.long_slide_along_sheet
                 || self.long_slide_sideways(params).is_some())
     }
 
@@ -461,6 +469,10 @@ impl SweepMetrics {
             (
                 "long_slide_walled_sides",
                 self.long_slide_walled_sides as f64,
+            ),
+            (
+                "long_slide_along_sheet",
+                f64::from(u8::from(self.long_slide_along_sheet)),
             ),
             (
                 "hinge_slot_walled_sides",

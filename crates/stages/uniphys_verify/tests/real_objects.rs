@@ -566,6 +566,40 @@ fn cabinet_doors_made_slides_are_hinged_on_their_line_again() {
     }
 }
 
+// An oven's doors made slides along their hinge lines: each rests on a ledge, so a slide
+// straight up lifts it off that face and was kept as the correction (the door slid up the
+// oven's front). A lid lifts off across its own plane; a door moved along its own plane is held
+// by nothing but a slot, so the door is hinged on its line again.
+#[test]
+fn oven_doors_made_slides_are_hinged_again_not_lifted_along_the_front() {
+    let o = object("kitchen-101808");
+    let all: Vec<usize> = (0..o.scene.part_count()).collect();
+    let diagonal = Aabb::from_points(&o.scene.points_of(&all)).diagonal();
+    let doors: Vec<usize> = o
+        .movable()
+        .into_iter()
+        .filter(|&i| part_diagonal(&o, o.joints[i].child.0) > 0.3 * diagonal)
+        .collect();
+    assert_eq!(doors.len(), 2, "the oven's two doors");
+    for i in doors {
+        let truth = o.joints[i].clone();
+        let axis = DVec3::from_array(truth.axis_in_object).normalize();
+        let (lo, hi) = projection_range(&o.scene.points_of(&[truth.child.0 as usize]), axis);
+        let slide = Joint {
+            kind: uniphys_types::JointKind::Prismatic,
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: 0.5 * (hi - lo),
+            }),
+            ..truth.clone()
+        };
+        let verdict = o.caught(i, slide);
+        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, truth.kind, "{change}");
+    }
+}
+
 // A drawer hinged about its own slide axis, swung a quarter turn: about a line along its depth
 // through its side (where nothing stands below a drawer) it swings down freely. Its carcass walls
 // it in across that axis: what sits in a slot slides along it.
