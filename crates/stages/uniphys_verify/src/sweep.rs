@@ -125,6 +125,9 @@ pub struct SweepMetrics {
     /// Long slides whose moving part is a broad sheet (a door, a lid, a screen) travelling
     /// along its own plane rather than across it: `true` (then only a slot holds it).
     pub long_slide_along_sheet: bool,
+    /// Long slides: the travel (the range's larger end) over the moving parts' own length along
+    /// the axis; 0 for other joints.
+    pub long_slide_travel_share: f64,
     /// Hinges (revolute) whose axis does not cross the plane of a panel: how many of the four
     /// sides across the axis the parent walls the moving parts in on (a drawer turned about its
     /// depth: its slot); 0 for other joints.
@@ -303,6 +306,7 @@ pub fn sweep(
         long_slide_walled_sides: 4,
         long_slide_rise: None,
         long_slide_along_sheet: false,
+        long_slide_travel_share: 0.0,
         hinge_slot_walled_sides: 0,
         in_plane_turn: None,
         off_round_spin: None,
@@ -393,6 +397,9 @@ pub fn sweep(
     if short_slide == Some(None) {
         metrics.long_slide_walled_sides =
             walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+        // ... and stays in it: a drawer travels less than its depth.
+        let (lo, hi) = projection_range(&moving_points, motion.axis_in_object.normalize_or_zero());
+        metrics.long_slide_travel_share = upper.abs().max(lower.abs()) / (hi - lo).max(1e-12);
         // A lid lifts off its pot across its own plane; a door slid along its cabinet's face is
         // held by nothing but a slot, whatever ledge it rests on.
         metrics.long_slide_along_sheet =

@@ -87,6 +87,10 @@ pub struct SweepParams {
     /// (a lid lifted off its pot; a door lifted along its cabinet's face off the ledge it rests
     /// on is not). A door or lid pushed along its own face is in no slot.
     pub long_slide_walled_sides_min: usize,
+    /// ... and stays in it: its travel is at most this many times its own length along the
+    /// slide (the drawers of real objects: 0.59 to 0.93 of their depth). A door pulled straight
+    /// out of its frame leaves the slot after its thickness; then only a lift holds it.
+    pub long_slide_travel_share_max: f64,
     /// ... and one held only by lifting off that face lifts: on an object standing on the
     /// ground, the direction it travels rises by at least this share (a lid lifted off its
     /// pot). Pulled straight off a cabinet's front (a door made a slide) or dropped from under a
@@ -163,6 +167,7 @@ impl Default for SweepParams {
             sheet_hinge_off_parent_max: 0.15,
             sheet_contact_fraction_min: 0.45,
             long_slide_walled_sides_min: 2,
+            long_slide_travel_share_max: 1.5,
             long_slide_lift_rise_min: 0.5,
             hinge_slot_walled_sides_min: 3,
             hinge_sink_mean_max: 2.0,

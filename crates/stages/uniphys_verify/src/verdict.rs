@@ -177,10 +177,18 @@ impl SweepMetrics {
                     self.short_slide_press, params.short_slide_press_min
                 ),
             };
-            reasons.push(format!(
-                "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {}) and {held}",
-                self.long_slide_walled_sides, params.long_slide_walled_sides_min,
-            ));
+            let slot = if self.long_slide_walled_sides >= params.long_slide_walled_sides_min {
+                format!(
+                    "a long slide runs out of its slot: it travels {:.2} of its own length along the slide (at most {:.2})",
+                    self.long_slide_travel_share, params.long_slide_travel_share_max
+                )
+            } else {
+                format!(
+                    "a long slide runs in no slot: its parent walls it in on {} of 4 sides (at least {})",
+                    self.long_slide_walled_sides, params.long_slide_walled_sides_min
+                )
+            };
+            reasons.push(format!("{slot} and {held}"));
         }
         if self.short_slide_left_parent() {
             reasons.push(format!(
@@ -391,10 +399,16 @@ impl SweepMetrics {
 
     /// A long slide runs in no slot and does not lift up off the face it sits on.
     fn long_slide_unheld(&self, params: &SweepParams) -> bool {
-        self.long_slide_walled_sides < params.long_slide_walled_sides_min
+        !self.long_slide_in_slot(params)
             && (self.short_slide_press < params.short_slide_press_min
                 || self.long_slide_along_sheet
                 || self.long_slide_sideways(params).is_some())
+    }
+
+    /// A long slide runs in a slot its parent walls in and stays in it over its travel.
+    fn long_slide_in_slot(&self, params: &SweepParams) -> bool {
+        self.long_slide_walled_sides >= params.long_slide_walled_sides_min
+            && self.long_slide_travel_share <= params.long_slide_travel_share_max
     }
 
     /// How much a long slide on the ground rises, when it rises less than a lift must.
@@ -474,6 +488,7 @@ impl SweepMetrics {
                 "long_slide_along_sheet",
                 f64::from(u8::from(self.long_slide_along_sheet)),
             ),
+            ("long_slide_travel_share", self.long_slide_travel_share),
             (
                 "hinge_slot_walled_sides",
                 self.hinge_slot_walled_sides as f64,
