@@ -93,6 +93,28 @@ impl Object {
     }
 
     /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
+    /// Joint `i` made a slide along its own line (half the part's length along it, as
+    /// verify-bench's "revolute made prismatic" does) is caught and corrected back to a joint
+    /// of its true kind on its true line ([`assert_restored_to_true_line`]); returns it.
+    fn assert_slide_hinged_again(&self, i: usize) -> Joint {
+        let truth = &self.joints[i];
+        let axis = DVec3::from_array(truth.axis_in_object).normalize();
+        let (lo, hi) = projection_range(&self.scene.points_of(&[truth.child.0 as usize]), axis);
+        let slide = Joint {
+            kind: uniphys_types::JointKind::Prismatic,
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: 0.5 * (hi - lo),
+            }),
+            ..truth.clone()
+        };
+        let verdict = self.caught(i, slide);
+        assert_restored_to_true_line(&verdict, truth, part_diagonal(self, truth.child.0));
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, truth.kind, "{change}");
+        fixed
+    }
+
     fn caught(&self, i: usize, broken: Joint) -> JointVerdict {
         let verdict = self.verify(&self.with(i, broken), i);
         assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
@@ -553,22 +575,9 @@ fn cabinet_doors_made_slides_are_hinged_on_their_line_again() {
     ] {
         let o = object(name);
         for i in o.movable() {
-            let truth = o.joints[i].clone();
-            let axis = DVec3::from_array(truth.axis_in_object).normalize();
-            let (lo, hi) = projection_range(&o.scene.points_of(&[truth.child.0 as usize]), axis);
-            let slide = Joint {
-                kind: uniphys_types::JointKind::Prismatic,
-                limits: Some(JointLimits {
-                    lower: 0.0,
-                    upper: 0.5 * (hi - lo),
-                }),
-                ..truth.clone()
-            };
-            let verdict = o.caught(i, slide);
-            assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
-            let (fixed, change) = verdict.correction.expect("corrected");
-            assert_eq!(fixed.kind, truth.kind, "{change}");
-            assert_range_overlaps_truth(&fixed, &truth, &format!("{name} {i}: {change}"));
+            let truth = &o.joints[i];
+            let fixed = o.assert_slide_hinged_again(i);
+            assert_range_overlaps_truth(&fixed, truth, &format!("{name} {i}"));
         }
     }
 }
@@ -589,21 +598,7 @@ fn oven_doors_made_slides_are_hinged_again_not_lifted_along_the_front() {
         .collect();
     assert_eq!(doors.len(), 2, "the oven's two doors");
     for i in doors {
-        let truth = o.joints[i].clone();
-        let axis = DVec3::from_array(truth.axis_in_object).normalize();
-        let (lo, hi) = projection_range(&o.scene.points_of(&[truth.child.0 as usize]), axis);
-        let slide = Joint {
-            kind: uniphys_types::JointKind::Prismatic,
-            limits: Some(JointLimits {
-                lower: 0.0,
-                upper: 0.5 * (hi - lo),
-            }),
-            ..truth.clone()
-        };
-        let verdict = o.caught(i, slide);
-        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
-        let (fixed, change) = verdict.correction.expect("corrected");
-        assert_eq!(fixed.kind, truth.kind, "{change}");
+        o.assert_slide_hinged_again(i);
     }
 }
 
