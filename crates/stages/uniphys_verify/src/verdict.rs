@@ -397,7 +397,8 @@ impl SweepMetrics {
             && self.hinge_slot_walled_sides >= params.hinge_slot_walled_sides_min
     }
 
-    /// A long slide runs in no slot and does not lift up off the face it sits on.
+    /// A long slide runs in no slot it stays in, and does not lift up off the face it sits on
+    /// (across its own plane, when it is a broad sheet).
     fn long_slide_unheld(&self, params: &SweepParams) -> bool {
         !self.long_slide_in_slot(params)
             && (self.short_slide_press < params.short_slide_press_min
