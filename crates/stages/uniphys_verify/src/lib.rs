@@ -6,8 +6,9 @@
 //!   slide's gap to its parent, its direction against the face it sits on and which way it
 //!   goes (into a face around it, off a parent it caps: [`SlideSide`]), a long slide in a slot
 //!   it stays in or lifted across a sheet's own plane, and no hinge about a slot's axis
-//!   (`slot`), a turning axis held by its part, a panel's hinge away from its handle and along a bar handle ([`panel_handle`]), a sheet held along an edge
-//!   hinged where it meets its parent, a panel turned in its own plane only when round or held
+//!   (`slot`), a turning axis held by its part, a panel's hinge away from its handle and along
+//!   a bar handle ([`panel_handle`]), a sheet held along an edge hinged where it meets its
+//!   parent, a panel turned in its own plane only when round or held
 //!   across both faces ([`InPlaneTurn`]), a part spun without limit about the line it is round
 //!   about when it is round about one ([`OffRoundSpin`]), nothing taken below the ground the
 //!   object stands on (when it rests on one: `ground`), and interpenetration of convex
