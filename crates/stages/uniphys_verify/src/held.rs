@@ -10,16 +10,39 @@ use crate::motion::JointMotion;
 use crate::scene::Scene;
 use crate::sweep_params::SweepParams;
 
-/// Smallest and mean distance from a turning joint's axis line, over the stretch where it
-/// passes the moving points, to the parent's surface (0 for other joints), metres.
+/// A turning joint's axis line against its parent, over the stretch where it passes the moving
+/// points (all 0 for other joints), metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct HingeToParent {
+    /// Smallest distance from the line to the parent's surface.
+    pub(crate) min_m: f64,
+    /// Mean distance from the line to the parent's surface.
+    pub(crate) mean_m: f64,
+    /// Mean distance to the parent's surface along the stretch, leaving out where the line
+    /// crosses open space between two points where it runs through the moving parts (its pin
+    /// spans a gap: a bucket's handle is held at its two ends, not across the bucket's opening);
+    /// the mean over the whole stretch when the line runs through them nowhere.
+    pub(crate) pin_mean_m: f64,
+}
+
+/// A line point this close to the moving parts, as a share of their diagonal, runs through them.
+const PIN_IN_PART_FRACTION: f64 = 0.05;
+
+/// How a turning joint's axis line lies against the parent's surface ([`HingeToParent`]); the
+/// moving group is `moving_parts`, sampled at `moving`.
 pub(crate) fn hinge_to_parent_m(
     scene: &Scene,
     motion: &JointMotion,
+    moving_parts: &[usize],
     moving: &[DVec3],
     parent: usize,
-) -> (f64, f64) {
+) -> HingeToParent {
     if !matches!(motion.kind, JointKind::Revolute | JointKind::Continuous) || moving.is_empty() {
-        return (0.0, 0.0);
+        return HingeToParent {
+            min_m: 0.0,
+            mean_m: 0.0,
+            pin_mean_m: 0.0,
+        };
     }
     let axis = motion.axis_in_object;
     let pivot = motion.pivot_in_object_m;
@@ -29,14 +52,45 @@ pub(crate) fn hinge_to_parent_m(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
             (lo.min(t), hi.max(t))
         });
-    let distances: Vec<f64> = (0..=HINGE_SAMPLES)
+    let line: Vec<DVec3> = (0..=HINGE_SAMPLES)
         .map(|k| pivot + axis * (lo + (hi - lo) * k as f64 / HINGE_SAMPLES as f64))
-        .map(|p| scene.surfaces.distance_m(parent, p))
         .collect();
-    (
-        distances.iter().copied().fold(f64::INFINITY, f64::min),
-        distances.iter().sum::<f64>() / distances.len() as f64,
-    )
+    let distances: Vec<f64> = line
+        .iter()
+        .map(|p| scene.surfaces.distance_m(parent, *p))
+        .collect();
+    let mean_m = distances.iter().sum::<f64>() / distances.len() as f64;
+    let in_part_m = PIN_IN_PART_FRACTION * Aabb::from_points(moving).diagonal();
+    let in_part: Vec<bool> = line
+        .iter()
+        .map(|p| {
+            moving_parts
+                .iter()
+                .any(|&m| scene.surfaces.distance_m(m, *p) <= in_part_m)
+        })
+        .collect();
+    // Between the first and the last point in the part, the line may cross open space (a
+    // bucket's opening between the handle's two ends); beyond them it is judged all along (a
+    // line that leaves a lever's stem sideways is held nowhere up there).
+    let first = in_part.iter().position(|&b| b);
+    let last = in_part.iter().rposition(|&b| b);
+    let pin_mean_m = match (first, last) {
+        (Some(first), Some(last)) => {
+            let held: Vec<f64> = distances
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| in_part[k] || k < first || k > last)
+                .map(|(_, d)| *d)
+                .collect();
+            held.iter().sum::<f64>() / held.len() as f64
+        }
+        _ => mean_m,
+    };
+    HingeToParent {
+        min_m: distances.iter().copied().fold(f64::INFINITY, f64::min),
+        mean_m,
+        pin_mean_m,
+    }
 }
 
 /// The tensor (mean of `n n^T`) of the parent's triangle normals `n` where the `moving` samples

@@ -48,6 +48,7 @@ mod penetration;
 mod plausibility;
 mod rounded_ends;
 mod scene;
+mod shut;
 mod slide_side;
 mod slot;
 mod sweep;

@@ -17,6 +17,7 @@ use crate::off_round::{OffRoundSpin, off_round_spin};
 use crate::part_box::Boxed;
 use crate::patch::{PosedTree, grow_patch};
 use crate::scene::Scene;
+use crate::shut::shut_share;
 use crate::slide_side::{SlideSide, slide_side};
 use crate::slot::walled_sides;
 use crate::sweep_params::SweepParams;
@@ -86,6 +87,9 @@ pub struct SweepMetrics {
     /// Turning joints: mean distance from the axis line, over the same stretch, to the parent's
     /// surface, metres (small when the hinge runs along its parent); 0 for slides.
     pub hinge_mean_to_parent_m: f64,
+    /// Turning joints: mean distance to the parent's surface over the same stretch where the axis
+    /// line runs through the moving parts (where its pin is), metres; 0 for slides.
+    pub hinge_pin_to_parent_m: f64,
     /// Turning joints: distance from the axis line to the nearest surface sample of the moving
     /// group, metres; 0 for slides.
     pub hinge_to_part_m: f64,
@@ -98,6 +102,10 @@ pub struct SweepMetrics {
     /// line's mean distance to the parent over the sheet's stretch (`hinge_mean_to_parent_m`)
     /// over the moving group's diagonal; `None` otherwise.
     pub sheet_hinge_off_parent: Option<f64>,
+    /// Hinges of such a sheet: the largest share of its samples lying against its parent at rest
+    /// or at either end of the range (a door, a lid or a screen shuts at one end of its travel);
+    /// `None` otherwise.
+    pub sheet_shut_share: Option<f64>,
     /// Turning joints along a panel's edge whose handle is a bar: the |cosine| between the bar's
     /// length and the axis (1: along it); `None` without such a bar.
     pub handle_bar_axis_cos: Option<f64>,
@@ -254,7 +262,7 @@ pub fn sweep(
     };
 
     let tolerance = params.penetration_tolerance_fraction * diag;
-    let hinge = hinge_to_parent_m(scene, &motion, &moving_points, parent);
+    let hinge = hinge_to_parent_m(scene, &motion, moving, &moving_points, parent);
     let moving_diagonal_m = Aabb::from_points(&moving_points).diagonal();
     let (hinge_to_part_m, hinge_to_part_max_m) = if motion.kind == JointKind::Prismatic {
         (0.0, 0.0)
@@ -290,13 +298,15 @@ pub fn sweep(
         below_ground_m: 0.0,
         below_ground_max_m: params.below_ground_fraction_max * diag,
         below_ground_coordinate: None,
-        hinge_to_parent_m: hinge.0,
-        hinge_mean_to_parent_m: hinge.1,
+        hinge_to_parent_m: hinge.min_m,
+        hinge_mean_to_parent_m: hinge.mean_m,
+        hinge_pin_to_parent_m: hinge.pin_mean_m,
         hinge_to_part_m,
         hinge_to_part_max_m,
         handle_reach_fraction: None,
         handle_bar_axis_cos: None,
         sheet_hinge_off_parent: None,
+        sheet_shut_share: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
         short_slide_gap_growth_m: 0.0,
@@ -355,7 +365,15 @@ pub fn sweep(
         && !axis_across_panel(child_boxed.part_box(), motion.axis_in_object)
         && held_along_edge()
     {
-        metrics.sheet_hinge_off_parent = Some(hinge.1 / moving_diagonal_m);
+        metrics.sheet_hinge_off_parent = Some(hinge.mean_m / moving_diagonal_m);
+        metrics.sheet_shut_share = Some(shut_share(
+            scene,
+            &motion,
+            (lower, upper),
+            child_points,
+            &moving_points,
+            parent,
+        ));
     }
     // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
     // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not

@@ -475,6 +475,7 @@ impl SweepMetrics {
             ("end_stop_crossed_fraction", self.end_stop_crossed_fraction),
             ("hinge_to_parent_m", self.hinge_to_parent_m),
             ("hinge_mean_to_parent_m", self.hinge_mean_to_parent_m),
+            ("hinge_pin_to_parent_m", self.hinge_pin_to_parent_m),
             ("hinge_to_part_m", self.hinge_to_part_m),
             ("hinge_to_part_max_m", self.hinge_to_part_max_m),
             ("below_ground_m", self.below_ground_m),
@@ -509,6 +510,10 @@ impl SweepMetrics {
             .chain(
                 self.sheet_hinge_off_parent
                     .map(|f| ("sheet_hinge_off_parent".to_owned(), f)),
+            )
+            .chain(
+                self.sheet_shut_share
+                    .map(|s| ("sheet_shut_share".to_owned(), s)),
             )
             .chain(
                 self.long_slide_rise

@@ -151,6 +151,22 @@ fn bucket_handles_turned_a_quarter_turn_hinge_on_their_attachments_again() {
     }
 }
 
+// A bucket's handle is held at its two ends, where its line runs through the handle and the
+// bucket's rim; between them the line crosses the bucket's opening, far from its walls. Moved
+// across the handle or made a slide, the handle is hinged again through its ends, not along a
+// line beside the bucket's wall that runs closer to the wall but through no part of the handle.
+#[test]
+fn bucket_handles_moved_off_their_ends_hinge_on_their_attachments_again() {
+    for name in ["gensim2-102358", "gensim2-102367"] {
+        let o = object(name);
+        let i = o.movable()[0];
+        let truth = o.joints[i].clone();
+        let verdict = o.caught(i, o.hinged_on_opposite_edge(&truth));
+        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+        o.assert_slide_hinged_again(i);
+    }
+}
+
 // A folding knife's blade hinged about a line in its own plane through its pin: between the
 // handle's scales and its spine it sits in a slot. It turns about its normal on the pin.
 #[test]
