@@ -37,6 +37,9 @@ pub enum TypesError {
     /// Two joints share a name, or the joint graph is not a tree.
     #[error("invalid joint structure: {0}")]
     InvalidJointStructure(String),
+    /// A value stored by an earlier stage could not be read back.
+    #[error("unreadable stored value: {0}")]
+    Unreadable(String),
 }
 
 /// Result alias for [`TypesError`].

@@ -9,6 +9,7 @@ mod asset;
 mod category;
 mod category_table;
 mod error;
+mod grounded;
 mod ids;
 mod joint;
 mod material;
@@ -27,6 +28,7 @@ pub use category::{
     CATEGORY_PRIORS, CategoryPrior, HOLLOW, MASS_BAND_FACTOR, PACKED, SIZE_BAND_FACTOR, SOLID,
 };
 pub use error::{TypesError, TypesResult};
+pub use grounded::{GROUNDED_VERSION, GroundedAsset};
 pub use ids::PartId;
 pub use joint::{Joint, JointKind, JointLimits};
 pub use material::{Material, MaterialCategory, MaterialPrior, PriorRange};

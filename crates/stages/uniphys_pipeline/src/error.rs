@@ -46,6 +46,9 @@ pub enum PipelineError {
     /// The input has nothing to process.
     #[error("{0}")]
     Empty(String),
+    /// A grounding stored by an earlier `ground` stage does not fit the input it is applied to.
+    #[error("the stored grounding does not fit the input: {0}")]
+    StoredGrounding(String),
 }
 
 impl PipelineError {

@@ -14,7 +14,7 @@ use uniphys_uniphysgen::{
 };
 
 use crate::PipelineResult;
-use crate::run::Prepared;
+use crate::grounding::Prepared;
 
 /// How to reach the model server and prepare its inputs.
 #[derive(Debug, Clone)]

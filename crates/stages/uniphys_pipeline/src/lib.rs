@@ -1,12 +1,17 @@
-//! The in-process UniPhys pipeline for one asset, needing no servers: ingest (and, with
-//! `--unit auto`, a real size for inputs in normalised units: `real_scale.rs`), prepare (frame and
-//! mass properties), colliders (convex decomposition), ground (built-in grounder, optionally a
-//! UniPhysGen model server or an LVLM), verify (intrinsic checks, articulation sweeps with correction) and
-//! export.
-//! The job-queue workers run the same stage functions; `uniphys run` calls [`run`].
+//! The in-process UniPhys pipeline for one asset, needing no servers: ingest (with `--unit
+//! auto`, a real size for inputs in normalised units: `real_scale.rs`; the object put to rest on
+//! the ground: `input`), prepare (mass properties), colliders (convex decomposition), ground
+//! (built-in grounder, optionally a UniPhysGen model server or an LVLM: `grounding`), verify
+//! (intrinsic checks, articulation sweeps with correction) and export (`finish`).
+//! The job-queue workers run the same stage functions: the `ground` stage calls [`ground_asset`]
+//! and stores what it returns, `convert` calls [`run`] with it as `RunOptions::grounded` (no
+//! model is asked again); `uniphys run` calls [`run`].
 
 mod cavities;
 mod error;
+mod finish;
+mod grounding;
+mod input;
 mod learned;
 mod lvlm;
 mod mass_calibration;
@@ -17,8 +22,9 @@ mod run;
 mod verify;
 
 pub use error::{PipelineError, PipelineResult};
+pub use input::asset_name;
 pub use learned::LearnedOptions;
 pub use lvlm::LvlmOptions;
 pub use progress::{NoProgress, Progress, Stage};
-pub use run::{RunOptions, RunOutput, asset_name, run};
+pub use run::{RunOptions, RunOutput, ground_asset, run};
 pub use verify::VerifyOptions;

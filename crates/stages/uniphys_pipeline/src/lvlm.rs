@@ -19,7 +19,7 @@ use uniphys_lvlm::{
 use uniphys_types::AssetRecord;
 
 use crate::PipelineResult;
-use crate::run::Prepared;
+use crate::grounding::Prepared;
 
 /// How to reach the LVLM and what the stage may spend.
 #[derive(Clone, Default)]

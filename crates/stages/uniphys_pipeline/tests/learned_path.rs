@@ -3,7 +3,7 @@
 //! still runs.
 
 use uniphys_examples::{GlbFrame, example, write_glb};
-use uniphys_pipeline::{LearnedOptions, NoProgress, PipelineError, RunOptions, run};
+use uniphys_pipeline::{LearnedOptions, NoProgress, PipelineError, RunOptions, ground_asset, run};
 use uniphys_types::Provenance;
 use uniphys_uniphysgen::test_server::TestServer;
 use uniphys_uniphysgen::{ClientConfig, PointOptions};
@@ -61,6 +61,54 @@ fn model_answers_replace_the_builtin_values_and_name_the_model() {
         "physics, kinematics and object requests"
     );
     assert!(out.artifacts.iter().any(|a| a.path == "model.urdf"));
+}
+
+// The queue's `ground` stage stores what grounding decided; `convert` verifies and exports it
+// without asking the model again, and gets what one run would.
+#[test]
+fn a_stored_grounding_is_verified_and_exported_without_asking_the_model_again() {
+    let server = TestServer::start().expect("test server");
+    let (_dir, path) = cabinet();
+    let options = learned(server.url());
+    let whole = run(&path, &options, &NoProgress).expect("learned run");
+    let grounded = ground_asset(&path, &options, &NoProgress).expect("grounding");
+    let asked = server.predict_requests();
+    let stored = serde_json::to_vec(&grounded).expect("a grounding serialises");
+    let again = RunOptions {
+        grounded: Some(serde_json::from_slice(&stored).expect("and reads back")),
+        ..options
+    };
+    let out = run(&path, &again, &NoProgress).expect("run from the stored grounding");
+    assert_eq!(
+        server.predict_requests(),
+        asked,
+        "no request after grounding"
+    );
+    assert_eq!(out.record, whole.record);
+    let files = |artifacts: &[uniphys_export::Artifact]| {
+        artifacts.iter().map(|a| a.path.clone()).collect::<Vec<_>>()
+    };
+    assert_eq!(files(&out.artifacts), files(&whole.artifacts));
+}
+
+#[test]
+fn a_stored_grounding_of_other_parts_is_refused() {
+    let (_dir, path) = cabinet();
+    let mut grounded = ground_asset(&path, &RunOptions::default(), &NoProgress).expect("grounding");
+    grounded.record.parts[0].name = "not_a_part_of_the_cabinet".to_owned();
+    let options = RunOptions {
+        grounded: Some(grounded),
+        ..RunOptions::default()
+    };
+    let error = run(&path, &options, &NoProgress).expect_err("other parts");
+    assert!(
+        matches!(error, PipelineError::StoredGrounding(_)),
+        "{error}"
+    );
+    assert!(
+        error.to_string().contains("not_a_part_of_the_cabinet"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -1,0 +1,149 @@
+//! The `verify` and `export` stages of a run: the grounded record checked (intrinsic levels,
+//! articulation sweeps with correction), the parents' colliders carved where their parts move,
+//! and every file written.
+
+use uniphys_export::{Artifact, ExportInput, export};
+use uniphys_geometry::{DistanceProbe, MeshAsset, TriMesh, display_rgba, parallel_map};
+use uniphys_types::{
+    AssetRecord, CheckOutcome, CheckResult, PartId, ReportSection, VerificationReport,
+};
+
+use crate::cavities::carve_cavities;
+use crate::input::Input;
+use crate::preview::{PREVIEW_PATH, preview_png};
+use crate::run::{Clock, RunOptions};
+use crate::verify::verify;
+use crate::{PipelineResult, Stage};
+
+/// What the last stages produced.
+pub(crate) struct Finished {
+    /// The verified record (corrections applied).
+    pub(crate) record: AssetRecord,
+    /// Exported files, sorted by path.
+    pub(crate) artifacts: Vec<Artifact>,
+    /// Every check that ran.
+    pub(crate) report: VerificationReport,
+}
+
+/// Verifies `record` (grounded on `input`'s parts, with `colliders`) and exports it; `notes`
+/// are what the earlier stages did, extended here.
+pub(crate) fn verify_and_export(
+    input: &Input,
+    record: AssetRecord,
+    mut colliders: Vec<Vec<TriMesh>>,
+    mut notes: Vec<String>,
+    options: &RunOptions,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<Finished> {
+    let asset = &input.asset;
+    let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
+    // Touching pairs serve verification (the dynamic check's contact filter) and export (MJCF
+    // excludes): computed once, timed with verification.
+    let (record, verified, touching) = clock.stage(Stage::Verify, || {
+        let touching = touching_pairs(asset, options.touching_fraction);
+        let verified = verify(record, &meshes, &colliders, &touching, &options.verify)?;
+        let summary = format!(
+            "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
+            verified.joints_passed,
+            verified.joints_swept,
+            verified.corrections.len(),
+            if verified.intrinsic_passed {
+                "passed"
+            } else {
+                "failed"
+            }
+        );
+        Ok(((verified.record.clone(), verified, touching), summary))
+    })?;
+    notes.extend(verified.corrections.iter().cloned());
+    let carved = carve_cavities(&record, &meshes, &mut colliders);
+    if carved > 0 {
+        notes.push(format!(
+            "colliders: the hulls of {carved} parents carved around the parts jointed to them, which leaves room where they move"
+        ));
+    }
+    let (artifacts, report) = clock.stage(Stage::Export, || {
+        let colors: Vec<[f32; 4]> = asset
+            .parts
+            .iter()
+            .map(|p| display_rgba(&p.mesh, &asset.materials, &asset.textures))
+            .collect();
+        let mut report = VerificationReport::default();
+        report
+            .sections
+            .push(ingest_section(input.dropped, &input.warnings));
+        report.sections.extend(verified.sections.iter().cloned());
+        report.metrics.extend(verified.metrics.clone());
+        let out = export(&ExportInput {
+            record: &record,
+            part_meshes: &meshes,
+            colliders: &colliders,
+            part_colors: &colors,
+            materials: &asset.materials,
+            textures: &asset.textures,
+            touching_pairs: &touching,
+            report: &report,
+            notes: &notes,
+        })?;
+        let mut artifacts = out.artifacts;
+        artifacts.push(Artifact {
+            path: PREVIEW_PATH.to_owned(),
+            bytes: preview_png(&meshes)?,
+        });
+        artifacts.sort_by(|a, b| a.path.cmp(&b.path));
+        let failures = out.report.failures().count();
+        let summary = format!("{} files, {} checks failed", artifacts.len(), failures);
+        Ok(((artifacts, out.report), summary))
+    })?;
+    Ok(Finished {
+        record,
+        artifacts,
+        report,
+    })
+}
+
+fn touching_pairs(asset: &MeshAsset, fraction: f64) -> Vec<(PartId, PartId)> {
+    let threshold = fraction * asset.bounds().diagonal();
+    let n = asset.parts.len();
+    let pairs: Vec<(usize, usize)> = (0..n)
+        .flat_map(|i| ((i + 1)..n).map(move |j| (i, j)))
+        .collect();
+    let probes = parallel_map(&asset.parts, |part| DistanceProbe::new(&part.mesh));
+    let close = parallel_map(&pairs, |&(i, j)| {
+        probes[i].min_distance_m(&probes[j]) <= threshold
+    });
+    let id = |i: usize| PartId(u32::try_from(i).unwrap_or(u32::MAX));
+    pairs
+        .into_iter()
+        .zip(close)
+        .filter(|(_, c)| *c)
+        .map(|((i, j), _)| (id(i), id(j)))
+        .collect()
+}
+
+fn ingest_section(dropped: usize, warnings: &[String]) -> ReportSection {
+    let mut checks = vec![CheckResult {
+        check: "degenerate_triangles".into(),
+        subject: "object".into(),
+        outcome: if dropped == 0 {
+            CheckOutcome::Pass
+        } else {
+            CheckOutcome::Warn
+        },
+        message: if dropped == 0 {
+            "none".into()
+        } else {
+            format!("{dropped} zero-area triangles dropped")
+        },
+    }];
+    checks.extend(warnings.iter().map(|w| CheckResult {
+        check: "referenced_files".into(),
+        subject: "object".into(),
+        outcome: CheckOutcome::Warn,
+        message: w.clone(),
+    }));
+    ReportSection {
+        name: "ingest".into(),
+        checks,
+    }
+}
