@@ -36,4 +36,6 @@ pub use properties::{Descriptions, ObjectProperties, PartProperties};
 pub use provenance::{Estimate, Provenance};
 pub use report::{CheckOutcome, CheckResult, ReportSection, VerificationReport};
 pub use service_stage::ServiceStage;
-pub use summary::{ConvertSummary, DatasetFacts, DecomposeStageSummary, IngestSummary};
+pub use summary::{
+    ConvertSummary, DatasetFacts, DecomposeStageSummary, GroundSummary, IngestSummary,
+};

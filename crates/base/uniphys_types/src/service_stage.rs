@@ -5,7 +5,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-/// A stage of the job queue's pipeline: `ingest` → `decompose` → `convert`.
+/// A stage of the job queue's pipeline: `ingest` → `decompose` → `ground` → `convert`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ServiceStage {
@@ -13,13 +13,16 @@ pub enum ServiceStage {
     Ingest,
     /// Splits a mesh given as one piece into parts.
     Decompose,
-    /// Grounds, verifies and exports the asset (the rest of the pipeline).
+    /// Grounds the parts: materials, properties, masses and joints, by the built-in grounder and,
+    /// when configured, a UniPhysGen server and an LVLM (the only stage that calls them).
+    Ground,
+    /// Verifies the grounded asset (correcting joints that fail their sweep) and exports it.
     Convert,
 }
 
 impl ServiceStage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Self; 3] = [Self::Ingest, Self::Decompose, Self::Convert];
+    pub const ALL: [Self; 4] = [Self::Ingest, Self::Decompose, Self::Ground, Self::Convert];
 
     /// The name runs are claimed by and stored under.
     #[must_use]
@@ -27,6 +30,7 @@ impl ServiceStage {
         match self {
             Self::Ingest => "ingest",
             Self::Decompose => "decompose",
+            Self::Ground => "ground",
             Self::Convert => "convert",
         }
     }

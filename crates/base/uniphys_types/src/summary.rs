@@ -1,8 +1,8 @@
 //! What the service's stages report of one asset (their manifests' summaries), written by the
 //! worker and read back by the API's batch statistics and the worker's own tests: one type per
 //! stage on both sides. `ingest` reports the file it read ([`IngestSummary`]), `decompose`
-//! whether and how it split the mesh ([`DecomposeStageSummary`]), `convert` the finished asset
-//! ([`ConvertSummary`]).
+//! whether and how it split the mesh ([`DecomposeStageSummary`]), `ground` what grounding decided
+//! ([`GroundSummary`]), `convert` the finished asset ([`ConvertSummary`]).
 
 use std::collections::BTreeMap;
 
@@ -71,6 +71,23 @@ pub struct DecomposeStageSummary {
     /// Seconds the decomposition took, when it ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub secs: Option<f64>,
+}
+
+/// The `ground` stage's summary of one asset: what the grounders decided, before verification.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct GroundSummary {
+    /// The asset's name.
+    pub name: String,
+    /// Object category, as grounded.
+    pub category: String,
+    /// Parts grounded.
+    pub parts: usize,
+    /// Joints that move (fixed ones left out).
+    pub movable_joints: usize,
+    /// Who grounded the parts' materials, the category and the joints: providers by name
+    /// (`builtin-grounder`, a model's name), other sources by label (`rule:...`), each once.
+    pub grounded_by: Vec<String>,
 }
 
 /// The `convert` stage's summary of one asset. Every field has a default, so a summary written

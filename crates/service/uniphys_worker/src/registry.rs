@@ -8,7 +8,7 @@ use uniphys_queue::{JobSpec, StageSpec};
 use uniphys_types::ServiceStage;
 
 use crate::stage::Stage;
-use crate::stages::{ConvertStage, DecomposeStage, IngestStage, StandInStage};
+use crate::stages::{ConvertStage, DecomposeStage, GroundStage, IngestStage, StandInStage};
 
 /// Stages by name.
 #[derive(Clone, Default)]
@@ -23,15 +23,17 @@ impl std::fmt::Debug for StageRegistry {
 }
 
 impl StageRegistry {
-    /// The real pipeline with default options: `ingest`, `decompose` (auto) and `convert`.
+    /// The real pipeline with default options: `ingest`, `decompose` (auto), `ground` and
+    /// `convert`.
     #[must_use]
     pub fn pipeline() -> Self {
         Self::pipeline_with(DecomposeStage::default(), ConvertStage::default())
     }
 
     /// The real pipeline with the given `decompose` and `convert` stages (their options: the
-    /// decomposition mode, an LVLM, verification parameters). `convert`'s reader options are
-    /// used by `ingest` and `decompose` too, so all three see the same faces.
+    /// decomposition mode, an LVLM or a UniPhysGen server, verification parameters). `ground`
+    /// runs with `convert`'s options, and it alone calls the models; `convert`'s reader options
+    /// are used by `ingest` and `decompose` too, so every stage sees the same faces.
     #[must_use]
     pub fn pipeline_with(decompose: DecomposeStage, convert: ConvertStage) -> Self {
         let ingest = convert.options.ingest.clone();
@@ -42,6 +44,9 @@ impl StageRegistry {
             .with(DecomposeStage {
                 ingest,
                 ..decompose
+            })
+            .with(GroundStage {
+                options: convert.options.clone(),
             })
             .with(convert)
     }
@@ -77,19 +82,24 @@ impl StageRegistry {
 /// Attempts of a pipeline stage before it is dead-lettered.
 const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 
-/// The stage graph every submitted asset gets: `ingest` → `decompose` → `convert` (`convert`
-/// also reads `ingest`'s output, so it depends on both).
+/// The stage graph every submitted asset gets: `ingest` → `decompose` → `ground` → `convert`
+/// (each later stage also reads the outputs of the earlier ones, so it depends on all of them).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
-    use ServiceStage::{Convert, Decompose, Ingest};
+    use ServiceStage::{Convert, Decompose, Ground, Ingest};
     JobSpec::new(vec![
         StageSpec::new(Ingest.name()).with_max_attempts(PIPELINE_MAX_ATTEMPTS),
         StageSpec::new(Decompose.name())
             .after(Ingest.name())
             .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
+        StageSpec::new(Ground.name())
+            .after(Ingest.name())
+            .after(Decompose.name())
+            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
         StageSpec::new(Convert.name())
             .after(Ingest.name())
             .after(Decompose.name())
+            .after(Ground.name())
             .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
     ])
 }
@@ -106,6 +116,9 @@ mod tests {
         for stage in &spec.stages {
             assert!(registry.get(&stage.name).is_some(), "{}", stage.name);
         }
-        assert_eq!(registry.names(), ["convert", "decompose", "ingest"]);
+        assert_eq!(
+            registry.names(),
+            ["convert", "decompose", "ground", "ingest"]
+        );
     }
 }

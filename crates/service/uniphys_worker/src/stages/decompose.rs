@@ -2,7 +2,8 @@
 //! [`DecomposeMode`]) splits it into parts with the built-in providers, or with SAM-compatible and
 //! PartField-compatible services when they are configured; writes the per-part
 //! meshes, `face_parts.json` (face of the merged input mesh → part) and `decompose.json`.
-//! `convert` applies `face_parts.json` to the same input, so the parts keep their materials.
+//! `ground` and `convert` apply `face_parts.json` to the same input, so the parts keep their
+//! materials.
 //! An input that keeps its own parts gets a summary only.
 
 use serde_json::Value;
@@ -17,9 +18,6 @@ use crate::input_error::unreadable;
 use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
-
-/// The file `convert` reads from this stage's output.
-pub const FACE_PARTS_FILE: &str = "face_parts.json";
 
 /// The decompose stage.
 #[derive(Clone, Debug, Default)]

@@ -1,11 +1,16 @@
 //! The stages this worker binary can run.
 
 mod convert;
-pub(crate) mod decompose;
+mod decompose;
+mod ground;
 mod ingest;
+mod relay;
 mod standin;
+mod upstream;
 
 pub use convert::ConvertStage;
-pub use decompose::{DecomposeStage, FACE_PARTS_FILE};
+pub use decompose::DecomposeStage;
+pub use ground::GroundStage;
 pub use ingest::IngestStage;
 pub use standin::{StandInStage, standin_output};
+pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE};

@@ -1,7 +1,10 @@
 //! The worker against a real store (SQLite in a temp dir) and a local object store: stand-in
 //! graphs run to the end with deterministic outputs, a broken input dead-letters at once with a
 //! readable error, the real pipeline converts an example (and decomposes one given in one piece),
-//! shutdown releases what it holds, and a cancel stops a running stage and removes what it wrote.
+//! shutdown releases what it holds, and a cancel stops a running stage and removes what it wrote;
+//! the pipeline's stages retried alone, a retried `convert` asking no model again (`grounding`).
+
+mod grounding;
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -43,7 +46,12 @@ async fn fixture() -> Fixture {
 }
 
 /// One slot for each stage of the pipeline.
-const PIPELINE_SLOTS: &[(&str, usize)] = &[("ingest", 1), ("decompose", 1), ("convert", 1)];
+const PIPELINE_SLOTS: &[(&str, usize)] = &[
+    ("ingest", 1),
+    ("decompose", 1),
+    ("ground", 1),
+    ("convert", 1),
+];
 
 fn config(stages: &[(&str, usize)]) -> WorkerConfig {
     WorkerConfig {

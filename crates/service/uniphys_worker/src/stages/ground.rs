@@ -1,0 +1,103 @@
+//! `ground`: the pipeline's stages up to grounding (ingest, prepare, colliders, ground) on the
+//! submitted file, split into the parts of an upstream `decompose` when it split the input.
+//! The only stage that calls a UniPhysGen server or an LVLM; it writes what they and the built-in
+//! grounder decided (`grounded.json`, a [`GroundedAsset`]), which `convert` verifies and exports,
+//! so a retry of `convert` asks no model again.
+
+use std::collections::BTreeSet;
+
+use serde_json::Value;
+use uniphys_pipeline::{PipelineError, RunOptions, Stage as PipelineStage, ground_asset};
+use uniphys_types::{AssetRecord, GroundSummary, GroundedAsset, Provenance, ServiceStage};
+
+use crate::outputs::{OutputWriter, summary_value};
+use crate::source::SourceFile;
+use crate::stage::{Stage, StageControl, StageError, StageInput};
+use crate::stages::relay::Relay;
+use crate::stages::upstream::{GROUNDED_FILE, stored_face_parts};
+
+/// The pipeline stages a `ground` run goes through.
+const GROUND_STAGES: [PipelineStage; 4] = [
+    PipelineStage::Ingest,
+    PipelineStage::Prepare,
+    PipelineStage::Colliders,
+    PipelineStage::Ground,
+];
+
+/// The ground stage.
+#[derive(Clone, Debug, Default)]
+pub struct GroundStage {
+    /// Pipeline options (the reader's, the models').
+    pub options: RunOptions,
+}
+
+impl Stage for GroundStage {
+    fn name(&self) -> &str {
+        ServiceStage::Ground.name()
+    }
+
+    fn version(&self) -> u32 {
+        1
+    }
+
+    fn run(
+        &self,
+        input: &StageInput,
+        out: &mut OutputWriter,
+        control: &StageControl,
+    ) -> Result<Value, StageError> {
+        input.upstream(ServiceStage::Ingest.name())?;
+        let source = SourceFile::fetch(input)?;
+        let mut options = self.options.clone();
+        options.face_parts = stored_face_parts(input)?;
+        let grounded = ground_asset(
+            source.path(),
+            &options,
+            &Relay::new(control, &GROUND_STAGES),
+        )
+        .map_err(|e| classify(&e, &source))?;
+        control.check()?;
+        out.put_json(GROUNDED_FILE, &grounded)?;
+        summary_value(&summary_of(&grounded))
+    }
+}
+
+/// The manifest's summary of a grounding.
+fn summary_of(grounded: &GroundedAsset) -> GroundSummary {
+    let record = &grounded.record;
+    GroundSummary {
+        name: record.name.clone(),
+        category: record.object.category.value.clone(),
+        parts: record.parts.len(),
+        movable_joints: record.joints.iter().filter(|j| j.kind.is_movable()).count(),
+        grounded_by: providers(record),
+    }
+}
+
+/// The providers named by the provenance of the record's materials, category and joints.
+fn providers(record: &AssetRecord) -> Vec<String> {
+    let provenances = record
+        .parts
+        .iter()
+        .map(|p| &p.properties.material.provenance)
+        .chain([&record.object.category.provenance])
+        .chain(record.joints.iter().map(|j| &j.provenance));
+    let names: BTreeSet<String> = provenances
+        .map(|p| match p {
+            Provenance::Provider { name, .. } => name.clone(),
+            other => other.label(),
+        })
+        .collect();
+    names.into_iter().collect()
+}
+
+/// A failure the same run may get past later ([`PipelineError::is_transient`]: a model server
+/// that stayed away) is retried.
+pub(crate) fn classify(error: &PipelineError, source: &SourceFile) -> StageError {
+    let message = source.without_local_paths(&format!("the pipeline failed: {error}"));
+    if error.is_transient() {
+        StageError::Transient(message)
+    } else {
+        StageError::Permanent(message)
+    }
+}

@@ -1,0 +1,48 @@
+//! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map
+//! and `ground`'s grounding.
+
+use uniphys_types::{GroundedAsset, ServiceStage};
+
+use crate::stage::{StageError, StageInput};
+
+/// The file `convert` and `ground` read from `decompose`'s output.
+pub const FACE_PARTS_FILE: &str = "face_parts.json";
+/// The file `convert` reads from `ground`'s output.
+pub const GROUNDED_FILE: &str = "grounded.json";
+
+/// The face-to-part map written by an upstream `decompose` stage, if the job has one and it
+/// split the input.
+pub(crate) fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError> {
+    read_upstream(input, ServiceStage::Decompose, FACE_PARTS_FILE)
+}
+
+/// What an upstream `ground` stage decided, if the job has one; checked as it is read.
+pub(crate) fn stored_grounding(input: &StageInput) -> Result<Option<GroundedAsset>, StageError> {
+    let Some(grounded) =
+        read_upstream::<GroundedAsset>(input, ServiceStage::Ground, GROUNDED_FILE)?
+    else {
+        return Ok(None);
+    };
+    grounded
+        .checked()
+        .map(Some)
+        .map_err(|e| StageError::Permanent(format!("{GROUNDED_FILE} of stage ground: {e}")))
+}
+
+/// The JSON file `file` of upstream stage `stage`, if the job has that stage and it wrote it.
+fn read_upstream<T: serde::de::DeserializeOwned>(
+    input: &StageInput,
+    stage: ServiceStage,
+    file: &str,
+) -> Result<Option<T>, StageError> {
+    let Some((_, manifest)) = input.upstream.iter().find(|(name, _)| name == stage.name()) else {
+        return Ok(None);
+    };
+    let Some(entry) = manifest.artifact(file) else {
+        return Ok(None);
+    };
+    let bytes = input.fetch(&entry.key)?;
+    serde_json::from_slice(&bytes)
+        .map(Some)
+        .map_err(|e| StageError::Permanent(format!("{}: {e}", entry.key)))
+}

@@ -1,0 +1,187 @@
+//! The pipeline's stages as stages: `ground` alone calls the models and stores what they
+//! decided; a `convert` that fails is retried alone and asks them nothing; a `ground` that fails
+//! is retried alone. The model is the rule-based UniPhysGen test server on loopback, which counts
+//! the requests it gets.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use serde_json::Value;
+use uniphys_pipeline::{LearnedOptions, RunOptions};
+use uniphys_queue::{JobState, OutputManifest};
+use uniphys_types::{GroundSummary, GroundedAsset, ServiceStage};
+use uniphys_uniphysgen::test_server::TestServer;
+use uniphys_uniphysgen::{ClientConfig, PointOptions};
+use uniphys_worker::stages::{ConvertStage, DecomposeStage, GROUNDED_FILE};
+use uniphys_worker::{OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry};
+
+use crate::{PIPELINE_SLOTS, config, fixture};
+
+/// `stage`, failing transiently on its first run.
+struct FailsOnce<S> {
+    stage: S,
+    failed: AtomicBool,
+}
+
+impl<S: Stage> Stage for FailsOnce<S> {
+    fn name(&self) -> &str {
+        self.stage.name()
+    }
+
+    fn version(&self) -> u32 {
+        self.stage.version()
+    }
+
+    fn run(
+        &self,
+        input: &StageInput,
+        out: &mut OutputWriter,
+        control: &StageControl,
+    ) -> Result<Value, StageError> {
+        if !self.failed.swap(true, Ordering::SeqCst) {
+            return Err(StageError::Transient("a worker lost mid-stage".into()));
+        }
+        self.stage.run(input, out, control)
+    }
+}
+
+fn fails_once<S: Stage>(stage: S) -> FailsOnce<S> {
+    FailsOnce {
+        stage,
+        failed: AtomicBool::new(false),
+    }
+}
+
+/// The real pipeline grounding with the UniPhysGen server at `url`.
+fn convert_with_model(url: String) -> ConvertStage {
+    ConvertStage {
+        options: RunOptions {
+            learned: Some(LearnedOptions {
+                client: ClientConfig {
+                    base_url: url,
+                    ..ClientConfig::default()
+                },
+                points: PointOptions {
+                    object_points: 20_000,
+                    min_part_points: 2_000,
+                    seed: 42,
+                },
+                ..LearnedOptions::default()
+            }),
+            ..RunOptions::default()
+        },
+    }
+}
+
+fn mug() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../test_data/examples/mug.glb")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
+    let server = TestServer::start().expect("test server");
+    let f = fixture().await;
+    let convert = convert_with_model(server.url());
+    let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
+        .with(fails_once(convert));
+    let sub = f
+        .submit_file(&mug(), &uniphys_worker::pipeline_job_spec())
+        .await;
+    let (shutdown, handle) = f.start(registry, config(PIPELINE_SLOTS));
+    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    for stage in ServiceStage::ALL {
+        let run = job.stage(stage.name()).expect("every stage ran");
+        let retried = stage == ServiceStage::Convert;
+        assert_eq!(run.attempt, if retried { 2 } else { 1 }, "{}", stage.name());
+    }
+    // Only `ground` asked the model: one request per task, none from either attempt of
+    // `convert`.
+    let ground = job.stage("ground").expect("ground");
+    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    let summary: GroundSummary =
+        serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+    assert!(
+        summary
+            .grounded_by
+            .iter()
+            .any(|p| p.starts_with("uniphysgen")),
+        "{summary:?}"
+    );
+    let entry = manifest
+        .artifact(GROUNDED_FILE)
+        .expect("the grounding is stored");
+    let grounded: GroundedAsset =
+        serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("grounding"))
+            .expect("a grounded asset");
+    assert_eq!(grounded.record.parts.len(), summary.parts);
+    let alone = predict_requests_of_one_grounding(&server).await;
+    assert_eq!(
+        server.predict_requests(),
+        2 * alone,
+        "the job asked as much as one grounding (measured again after it)"
+    );
+    // The exported record is the stored grounding, verified: the model's values are in it.
+    let convert = job.stage("convert").expect("convert");
+    let manifest = OutputManifest::from_value(convert.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    let record = manifest.artifact("record.json").expect("record");
+    let record: Value =
+        serde_json::from_slice(&f.artifacts.get(&record.key).await.expect("record")).expect("json");
+    assert_eq!(
+        record["object"]["category"]["value"],
+        grounded.record.object.category.value.as_str()
+    );
+}
+
+/// Grounds the mug once in process with the model at `server`, returning the requests it took.
+async fn predict_requests_of_one_grounding(server: &TestServer) -> usize {
+    let before = server.predict_requests();
+    let options = convert_with_model(server.url()).options;
+    tokio::task::spawn_blocking(move || {
+        uniphys_pipeline::ground_asset(&mug(), &options, &uniphys_pipeline::NoProgress)
+            .expect("grounding")
+    })
+    .await
+    .expect("grounding thread");
+    server.predict_requests() - before
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_ground_stage_that_fails_transiently_is_retried_alone() {
+    let f = fixture().await;
+    let convert = ConvertStage::default();
+    let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone()).with(
+        fails_once(uniphys_worker::stages::GroundStage {
+            options: convert.options,
+        }),
+    );
+    let sub = f
+        .submit_file(&mug(), &uniphys_worker::pipeline_job_spec())
+        .await;
+    let (shutdown, handle) = f.start(registry, config(PIPELINE_SLOTS));
+    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
+        .await;
+    shutdown.cancel();
+    handle.await.expect("worker stops");
+    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    for stage in ServiceStage::ALL {
+        let run = job.stage(stage.name()).expect("every stage ran");
+        let retried = stage == ServiceStage::Ground;
+        assert_eq!(run.attempt, if retried { 2 } else { 1 }, "{}", stage.name());
+        if retried {
+            assert!(
+                run.errors[0].message.contains("a worker lost mid-stage"),
+                "{:?}",
+                run.errors
+            );
+        }
+    }
+}
