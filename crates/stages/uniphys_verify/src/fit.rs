@@ -5,7 +5,6 @@
 //! across it). What tells the intended one apart is how real mechanisms are built:
 //! - a hinge runs along the part it is attached to (its pin sits in the parent's frame, or
 //!   spans the gap between two holds, as a bucket's handle's does);
-//! - a door, a lid or a screen shuts against its parent at one end of its travel;
 //! - a panel's handle sits far from its hinge, where pulling turns the panel most easily;
 //! - a part that spins in place (a knob, a wheel, a cap) is round about its axis: turned, it
 //!   lands on itself.
@@ -37,9 +36,7 @@ const SPIN_WEIGHT: f64 = 5.0;
 ///   (leaving out open space its pin spans between two holds, as a bucket's handle's does), a
 ///   share of the moving parts' width across the axis ([`width_across_m`]), plus how far the
 ///   panel's handle is from the far edge (1 minus its share of the reach, when there is a
-///   handle; 1 when a panel with a handle would spin in its own plane), plus, for a hinged
-///   sheet, how far it is from shutting against its parent at either end of its travel
-///   ([`unshut`]);
+///   handle; 1 when a panel with a handle would spin in its own plane);
 /// - a spin (continuous): the roundness residual ([`spin_residual`]) times 5; a revolute joint
 ///   over half a turn ([`may_spin`]) is judged both ways and keeps the better fit (a knob with a
 ///   stop spins, a bucket's handle swings);
@@ -80,7 +77,7 @@ pub(crate) fn misfit(
             }
         }
     };
-    let hinge = along + handle + unshut(metrics.sheet_shut_share);
+    let hinge = along + handle;
     if may_spin(joint) {
         // A knob turned 330 degrees spins in place as well as any continuous one; its grip ridge
         // would otherwise count as a handle on a panel spun in its own plane.
@@ -88,23 +85,6 @@ pub(crate) fn misfit(
     } else {
         hinge
     }
-}
-
-/// A hinged sheet with at least this share of its samples against its parent at one end of
-/// its travel shuts there (real doors, lids and screens: most of their surface).
-const SHUT_SHARE_MIN: f64 = 0.3;
-/// Misfit of a hinged sheet that never shuts against its parent: about the handle term's for a
-/// handle half-way to the hinge.
-const UNSHUT_WEIGHT: f64 = 0.3;
-
-/// How far a hinged sheet is from shutting against its parent at either end of its travel, given
-/// its largest share of samples lying against the parent there (`None` for other joints): 0
-/// from [`SHUT_SHARE_MIN`] up, rising to [`UNSHUT_WEIGHT`] for a sheet that never touches it
-/// (a laptop's screen turned back from upright, away from its base).
-fn unshut(share: Option<f64>) -> f64 {
-    share.map_or(0.0, |s| {
-        UNSHUT_WEIGHT * (1.0 - (s / SHUT_SHARE_MIN).min(1.0))
-    })
 }
 
 /// A slide within this angle of a direction it could be built along runs along it, radians (15

@@ -48,7 +48,6 @@ mod penetration;
 mod plausibility;
 mod rounded_ends;
 mod scene;
-mod shut;
 mod slide_side;
 mod slot;
 mod sweep;

@@ -17,7 +17,6 @@ use crate::off_round::{OffRoundSpin, off_round_spin};
 use crate::part_box::Boxed;
 use crate::patch::{PosedTree, grow_patch};
 use crate::scene::Scene;
-use crate::shut::shut_share;
 use crate::slide_side::{SlideSide, slide_side};
 use crate::slot::walled_sides;
 use crate::sweep_params::SweepParams;
@@ -102,10 +101,6 @@ pub struct SweepMetrics {
     /// line's mean distance to the parent over the sheet's stretch (`hinge_mean_to_parent_m`)
     /// over the moving group's diagonal; `None` otherwise.
     pub sheet_hinge_off_parent: Option<f64>,
-    /// Hinges of such a sheet: the largest share of its samples lying against its parent at rest
-    /// or at either end of the range (a door, a lid or a screen shuts at one end of its travel);
-    /// `None` otherwise.
-    pub sheet_shut_share: Option<f64>,
     /// Turning joints along a panel's edge whose handle is a bar: the |cosine| between the bar's
     /// length and the axis (1: along it); `None` without such a bar.
     pub handle_bar_axis_cos: Option<f64>,
@@ -306,7 +301,6 @@ pub fn sweep(
         handle_reach_fraction: None,
         handle_bar_axis_cos: None,
         sheet_hinge_off_parent: None,
-        sheet_shut_share: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
         short_slide_gap_growth_m: 0.0,
@@ -366,14 +360,6 @@ pub fn sweep(
         && held_along_edge()
     {
         metrics.sheet_hinge_off_parent = Some(hinge.mean_m / moving_diagonal_m);
-        metrics.sheet_shut_share = Some(shut_share(
-            scene,
-            &motion,
-            (lower, upper),
-            child_points,
-            &moving_points,
-            parent,
-        ));
     }
     // A spin (continuous) is judged by its roundness where it is chosen and corrected (`fit`):
     // a grounder's spin line through a knob with a pointer is rounder than a hinge's but not

@@ -512,10 +512,6 @@ impl SweepMetrics {
                     .map(|f| ("sheet_hinge_off_parent".to_owned(), f)),
             )
             .chain(
-                self.sheet_shut_share
-                    .map(|s| ("sheet_shut_share".to_owned(), s)),
-            )
-            .chain(
                 self.long_slide_rise
                     .map(|r| ("long_slide_rise".to_owned(), r)),
             )

@@ -1,4 +1,5 @@
-//! Chaos tests of the job-queue service (issue 3): 1,000 assets through three stand-in stages
+//! Chaos tests of the job-queue service (issue 3): 1,000 assets through stand-ins of the
+//! pipeline's four stages
 //! on four `uniphys worker` processes, with a worker SIGKILLed every two seconds; the same with
 //! Redis stopped midway, and with PostgreSQL restarted midway. Each runs on its own PostgreSQL
 //! cluster and Redis server, so it may stop them. Nothing may be lost, every output must match its

@@ -1,5 +1,5 @@
-//! One chaos run: N assets through stand-in stages a → b → c on several `uniphys worker`
-//! processes, SIGKILLs at random, optionally Redis stopped or PostgreSQL restarted midway; then
+//! One chaos run: N assets through stand-ins of the pipeline's stages (ingest → decompose →
+//! ground → convert) on several `uniphys worker` processes, SIGKILLs at random, optionally Redis stopped or PostgreSQL restarted midway; then
 //! every output is checked against its recipe.
 
 use std::collections::BTreeMap;
@@ -13,7 +13,10 @@ use uniphys_queue::{JobSpec, NewAsset, QueueStore, RetryPolicy, StoreConfig};
 use super::servers::{PgCluster, RedisServer};
 use super::workers::{WorkerEnv, WorkerProcess};
 
-const STAGES: [&str; 3] = ["a", "b", "c"];
+/// The pipeline's stages, by name, in order.
+const STAGES: [&str; 4] = ["ingest", "decompose", "ground", "convert"];
+/// The files a `convert` stand-in writes besides its `out.txt`: the dataset entity.
+const ENTITY_FILES: [&str; 3] = ["object.json", "record.json", "report.json"];
 
 /// What to do to the system while it runs.
 #[derive(Clone, Copy, Debug)]
@@ -243,7 +246,12 @@ pub async fn run(scenario: Scenario) -> Outcome {
         }
         let manifest: serde_json::Value =
             serde_json::from_str(&row.get::<String, _>("manifest")).expect("manifest json");
-        let artifact = &manifest["artifacts"][0];
+        let artifact = manifest["artifacts"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .find(|a| a["name"] == "out.txt")
+            .expect("every stand-in writes out.txt");
         let key = artifact["key"].as_str().expect("key");
         let bytes = std::fs::read(storage.path().join(key)).expect("output exists");
         let sha = hex::encode(Sha256::digest(&bytes));
@@ -257,6 +265,10 @@ pub async fn run(scenario: Scenario) -> Outcome {
     walk_files(storage.path(), &mut files);
     let (outputs, stray): (Vec<_>, Vec<_>) = files
         .iter()
+        .filter(|p| {
+            !p.file_name()
+                .is_some_and(|n| ENTITY_FILES.iter().any(|e| n == *e))
+        })
         .partition(|p| p.file_name().is_some_and(|n| n == "out.txt"));
     assert_eq!(
         outputs.len() as i64,
