@@ -2,9 +2,10 @@
 //! (the example assets, each moved a little so every file differs) through
 //! `ingest → decompose → ground → convert` and through `ingest → decompose → convert` (with no
 //! `ground` upstream, `convert` grounds itself), on one worker with one slot per stage, grounding
-//! with the rule-based UniPhysGen test server on loopback. A share of the `convert` runs fails on
-//! its first attempt, as a killed worker or a failed verification would; the queue retries it.
-//! Prints wall time and the model requests each graph sent.
+//! with the rule-based UniPhysGen test server on loopback. A share of the `convert` runs fails at
+//! the end of its first attempt, as a worker killed mid-stage would; the queue retries it. Prints
+//! wall time and the model requests each graph sent. The stage graph has one slot more (its
+//! `ground`), so a worker runs a `ground` and a `convert` of different assets at once.
 //!
 //! `cargo bench -p uniphys_worker --bench stage_pipeline -- [ASSETS] [DATABASE_URL]`
 //! (default 100 assets on a temporary SQLite file, the embedded default; with a PostgreSQL URL it
@@ -36,7 +37,7 @@ use uniphys_worker::{
 /// Every this many assets, `convert` fails on its first attempt.
 const CONVERT_FAILS_EVERY: usize = 5;
 
-/// `convert`, failing on the first attempt of every [`CONVERT_FAILS_EVERY`]-th asset.
+/// `convert`, failing at the end of the first attempt of every [`CONVERT_FAILS_EVERY`]-th asset.
 struct FlakyConvert {
     stage: ConvertStage,
     failed: Mutex<HashSet<String>>,
@@ -63,12 +64,14 @@ impl Stage for FlakyConvert {
             .next()
             .and_then(|n| n.parse().ok())
             .unwrap_or(1);
+        let summary = self.stage.run(input, out, control)?;
         if index.is_multiple_of(CONVERT_FAILS_EVERY)
             && self.failed.lock().expect("lock").insert(digest)
         {
+            // Lost at the end of its work: the retry does it all again.
             return Err(StageError::Transient("the worker was lost".into()));
         }
-        self.stage.run(input, out, control)
+        Ok(summary)
     }
 }
 
@@ -260,7 +263,7 @@ async fn main() {
     let files = asset_files(n);
     let dir = tempfile::tempdir().expect("temp dir");
     println!(
-        "# {n} assets, one worker, one slot per stage; convert fails once on every {CONVERT_FAILS_EVERY}th asset\n"
+        "# {n} assets, one worker, one slot per stage; convert is lost at the end of its first attempt on every {CONVERT_FAILS_EVERY}th asset\n"
     );
     println!(
         "| store | graph | wall (s) | ratio | succeeded | convert attempts | model requests | ratio |"

@@ -18,7 +18,8 @@ use uniphys_worker::{OutputWriter, Stage, StageControl, StageError, StageInput, 
 
 use crate::{PIPELINE_SLOTS, config, fixture};
 
-/// `stage`, failing transiently on its first run.
+/// `stage`, failing transiently at the end of its first run (its work done, as a worker lost
+/// just before reporting it).
 struct FailsOnce<S> {
     stage: S,
     failed: AtomicBool,
@@ -39,10 +40,11 @@ impl<S: Stage> Stage for FailsOnce<S> {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
+        let summary = self.stage.run(input, out, control)?;
         if !self.failed.swap(true, Ordering::SeqCst) {
             return Err(StageError::Transient("a worker lost mid-stage".into()));
         }
-        self.stage.run(input, out, control)
+        Ok(summary)
     }
 }
 
