@@ -10,7 +10,8 @@ use crate::{AssetRecord, TypesError, TypesResult};
 pub const GROUNDED_VERSION: u32 = 1;
 
 /// A grounded asset: its record before verification (parts with their properties and masses,
-/// joints as the grounders chose them) and the notes grounding wrote for the report.
+/// joints as the grounders chose them), the notes grounding wrote for the report, and each
+/// part's convex colliders (what verification sweeps and the export writes).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GroundedAsset {
     /// [`GROUNDED_VERSION`] when written by this build.
@@ -19,16 +20,28 @@ pub struct GroundedAsset {
     pub record: AssetRecord,
     /// What grounding did and why, in order (the export's notes).
     pub notes: Vec<String>,
+    /// Each part's convex hulls, by part position, in the same frame.
+    pub colliders: Vec<Vec<Hull>>,
+}
+
+/// A convex hull: a closed triangle mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Hull {
+    /// Vertex positions, metres.
+    pub positions_m: Vec<[f64; 3]>,
+    /// Triangles, as indices into `positions_m`.
+    pub triangles: Vec<[u32; 3]>,
 }
 
 impl GroundedAsset {
     /// A grounded asset of this build's version.
     #[must_use]
-    pub fn new(record: AssetRecord, notes: Vec<String>) -> Self {
+    pub fn new(record: AssetRecord, notes: Vec<String>, colliders: Vec<Vec<Hull>>) -> Self {
         Self {
             version: GROUNDED_VERSION,
             record,
             notes,
+            colliders,
         }
     }
 
@@ -42,6 +55,13 @@ impl GroundedAsset {
             )));
         }
         self.record.validate()?;
+        if self.colliders.len() != self.record.parts.len() {
+            return Err(TypesError::Unreadable(format!(
+                "grounded asset with colliders for {} parts and {} parts",
+                self.colliders.len(),
+                self.record.parts.len()
+            )));
+        }
         Ok(self)
     }
 }

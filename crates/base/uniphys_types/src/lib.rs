@@ -28,7 +28,7 @@ pub use category::{
     CATEGORY_PRIORS, CategoryPrior, HOLLOW, MASS_BAND_FACTOR, PACKED, SIZE_BAND_FACTOR, SOLID,
 };
 pub use error::{TypesError, TypesResult};
-pub use grounded::{GROUNDED_VERSION, GroundedAsset};
+pub use grounded::{GROUNDED_VERSION, GroundedAsset, Hull};
 pub use ids::PartId;
 pub use joint::{Joint, JointKind, JointLimits};
 pub use material::{Material, MaterialCategory, MaterialPrior, PriorRange};

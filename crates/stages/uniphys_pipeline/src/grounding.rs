@@ -1,14 +1,13 @@
 //! The `prepare`, `colliders` and `ground` stages of a run: each part's solid and walls, its
 //! convex hulls, then its material, properties and mass and the articulation (the built-in
 //! grounder, then a UniPhysGen server's or an LVLM's answers when configured). What grounding
-//! decided is a [`GroundedAsset`], which the queue stores so that verification and export never
-//! ask the models again.
+//! decided, with the colliders, is a [`GroundedAsset`], which the queue stores so that
+//! verification and export never ask the models again nor decompose the parts into hulls again.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use uniphys_geometry::MeshAsset;
 use uniphys_geometry::{
-    MassProperties, TriMesh, VolumeMethod, WallSamples, convex_decompositions,
+    DVec3, MassProperties, MeshAsset, TriMesh, VolumeMethod, WallSamples, convex_decompositions,
     materials_by_coverage, parallel_map, solid_mass_properties,
 };
 use uniphys_ground::{
@@ -16,7 +15,8 @@ use uniphys_ground::{
     object_properties, part_mass_model, walls_matter,
 };
 use uniphys_types::{
-    AssetRecord, Estimate, GroundedAsset, PartId, PartMass, PartRecord, Provenance, SCHEMA_VERSION,
+    AssetRecord, Estimate, GroundedAsset, Hull, PartId, PartMass, PartRecord, Provenance,
+    SCHEMA_VERSION,
 };
 
 use crate::input::Input;
@@ -155,8 +155,47 @@ pub(crate) fn ground(
             "{} movable joints, object mass {:.3} kg ({})",
             movable, record.object.mass_kg.value, record.object.category.value
         );
-        Ok((GroundedAsset::new(record, notes), summary))
+        let hulls = colliders
+            .iter()
+            .map(|part| part.iter().map(hull_of).collect())
+            .collect();
+        Ok((GroundedAsset::new(record, notes, hulls), summary))
     })
+}
+
+/// A collider as stored.
+fn hull_of(mesh: &TriMesh) -> Hull {
+    Hull {
+        positions_m: mesh.positions.iter().map(|p| p.to_array()).collect(),
+        triangles: mesh.triangles.clone(),
+    }
+}
+
+/// The colliders a stored grounding holds, as meshes.
+pub(crate) fn stored_colliders(grounded: &GroundedAsset) -> PipelineResult<Vec<Vec<TriMesh>>> {
+    grounded
+        .colliders
+        .iter()
+        .zip(&grounded.record.parts)
+        .map(|(hulls, part)| {
+            hulls
+                .iter()
+                .map(|h| {
+                    let positions = h
+                        .positions_m
+                        .iter()
+                        .map(|p| DVec3::from_array(*p))
+                        .collect();
+                    TriMesh::new(positions, h.triangles.clone()).map_err(|e| {
+                        PipelineError::StoredGrounding(format!(
+                            "a collider of part {:?}: {e}",
+                            part.name
+                        ))
+                    })
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// A grounding stored by an earlier run of the `ground` stage, checked against the parts it is

@@ -16,7 +16,7 @@ use uniphys_mesh_io::IngestOptions;
 use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport};
 
 use crate::finish::verify_and_export;
-use crate::grounding::{colliders, ground, prepare, stored_grounding};
+use crate::grounding::{colliders, ground, prepare, stored_colliders, stored_grounding};
 use crate::input::read_input;
 use crate::learned::LearnedOptions;
 use crate::lvlm::LvlmOptions;
@@ -52,8 +52,9 @@ pub struct RunOptions {
     /// stage): applied right after ingest instead of decomposing again.
     pub face_parts: Option<Vec<u32>>,
     /// What an earlier run of the `ground` stage decided ([`ground_asset`]; the queue's `ground`
-    /// stage): used instead of preparing and grounding again, so no UniPhysGen or LVLM request is
-    /// sent. It must name the parts the input is read into.
+    /// stage), colliders included: used instead of preparing, decomposing into hulls and grounding
+    /// again, so no UniPhysGen or LVLM request is sent. It must name the parts the input is read
+    /// into.
     pub grounded: Option<GroundedAsset>,
     /// `--unit auto`: an input whose coordinates are not a length (a PartNet-Mobility folder)
     /// is scaled to the typical size of its kind, and one whose unit makes it implausible for
@@ -125,7 +126,8 @@ impl<'a> Clock<'a> {
 }
 
 /// Runs ingest, prepare, colliders, ground, verify and export on the asset at `path`; with
-/// `options.grounded`, prepare and ground are skipped and the stored grounding is verified.
+/// `options.grounded`, prepare, colliders and ground are skipped and the stored grounding (with
+/// its colliders) is verified.
 pub fn run(
     path: &Path,
     options: &RunOptions,
@@ -136,7 +138,7 @@ pub fn run(
     let (colliders, grounded) = match &options.grounded {
         Some(stored) => {
             let grounded = stored_grounding(stored, &input.asset)?;
-            (colliders(&input, options, &mut clock)?, grounded)
+            (stored_colliders(&grounded)?, grounded)
         }
         None => {
             let prepared = prepare(&input, options, &mut clock)?;

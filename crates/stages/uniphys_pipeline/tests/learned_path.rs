@@ -92,7 +92,7 @@ fn a_stored_grounding_is_verified_and_exported_without_asking_the_model_again() 
 }
 
 #[test]
-fn a_stored_grounding_of_other_parts_is_refused() {
+fn a_stored_grounding_of_other_parts_or_without_every_parts_colliders_is_refused() {
     let (_dir, path) = cabinet();
     let mut grounded = ground_asset(&path, &RunOptions::default(), &NoProgress).expect("grounding");
     grounded.record.parts[0].name = "not_a_part_of_the_cabinet".to_owned();
@@ -109,6 +109,15 @@ fn a_stored_grounding_of_other_parts_is_refused() {
         error.to_string().contains("not_a_part_of_the_cabinet"),
         "{error}"
     );
+
+    let mut grounded = ground_asset(&path, &RunOptions::default(), &NoProgress).expect("grounding");
+    grounded.colliders.pop();
+    let options = RunOptions {
+        grounded: Some(grounded),
+        ..RunOptions::default()
+    };
+    let error = run(&path, &options, &NoProgress).expect_err("colliders missing");
+    assert!(error.to_string().contains("colliders for"), "{error}");
 }
 
 #[test]

@@ -86,8 +86,9 @@ pub struct SweepMetrics {
     /// Turning joints: mean distance from the axis line, over the same stretch, to the parent's
     /// surface, metres (small when the hinge runs along its parent); 0 for slides.
     pub hinge_mean_to_parent_m: f64,
-    /// Turning joints: mean distance to the parent's surface over the same stretch where the axis
-    /// line runs through the moving parts (where its pin is), metres; 0 for slides.
+    /// Turning joints: the same mean, leaving out open space the line crosses between two
+    /// points where it runs through the moving parts (a pin spanning a gap between two holds, as
+    /// a bucket's handle's does), metres; 0 for slides.
     pub hinge_pin_to_parent_m: f64,
     /// Turning joints: distance from the axis line to the nearest surface sample of the moving
     /// group, metres; 0 for slides.

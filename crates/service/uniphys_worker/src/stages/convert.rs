@@ -18,9 +18,8 @@ use crate::stages::relay::Relay;
 use crate::stages::upstream::{stored_face_parts, stored_grounding};
 
 /// The pipeline stages a `convert` run goes through after a `ground` stage.
-const AFTER_GROUND: [PipelineStage; 4] = [
+const AFTER_GROUND: [PipelineStage; 3] = [
     PipelineStage::Ingest,
-    PipelineStage::Colliders,
     PipelineStage::Verify,
     PipelineStage::Export,
 ];
