@@ -16,7 +16,7 @@ use uniphys_uniphysgen::{ClientConfig, PointOptions};
 use uniphys_worker::stages::{ConvertStage, DecomposeStage, GROUNDED_FILE};
 use uniphys_worker::{OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry};
 
-use crate::{PIPELINE_SLOTS, config, fixture};
+use crate::fixture;
 
 /// `stage`, failing transiently at the end of its first run (its work done, as a worker lost
 /// just before reporting it).
@@ -87,15 +87,9 @@ async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
     let convert = convert_with_model(server.url());
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
         .with(fails_once(convert));
-    let sub = f
-        .submit_file(&mug(), &uniphys_worker::pipeline_job_spec())
+    let job = f
+        .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
-    let (shutdown, handle) = f.start(registry, config(PIPELINE_SLOTS));
-    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
-        .await;
-    shutdown.cancel();
-    handle.await.expect("worker stops");
-    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
     for stage in ServiceStage::ALL {
         let run = job.stage(stage.name()).expect("every stage ran");
@@ -164,15 +158,9 @@ async fn a_ground_stage_that_fails_transiently_is_retried_alone() {
             options: convert.options,
         }),
     );
-    let sub = f
-        .submit_file(&mug(), &uniphys_worker::pipeline_job_spec())
+    let job = f
+        .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
-    let (shutdown, handle) = f.start(registry, config(PIPELINE_SLOTS));
-    f.wait_finished(&[sub.job_id], Duration::from_secs(600))
-        .await;
-    shutdown.cancel();
-    handle.await.expect("worker stops");
-    let job = f.store.get_job(f.tenant, sub.job_id).await.expect("job");
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
     for stage in ServiceStage::ALL {
         let run = job.stage(stage.name()).expect("every stage ran");

@@ -124,8 +124,19 @@ impl Fixture {
     /// Submits `path` with the pipeline's graph, runs the real pipeline on one slot per stage
     /// until the job finishes (or `within` passes), stops the worker and returns the job.
     async fn run_pipeline(&self, path: &Path, within: Duration) -> uniphys_queue::JobDetail {
+        self.run_pipeline_with(path, StageRegistry::pipeline(), within)
+            .await
+    }
+
+    /// [`Self::run_pipeline`] with the stages of `registry`.
+    async fn run_pipeline_with(
+        &self,
+        path: &Path,
+        registry: StageRegistry,
+        within: Duration,
+    ) -> uniphys_queue::JobDetail {
         let sub = self.submit_file(path, &pipeline_job_spec()).await;
-        let (shutdown, handle) = self.start(StageRegistry::pipeline(), config(PIPELINE_SLOTS));
+        let (shutdown, handle) = self.start(registry, config(PIPELINE_SLOTS));
         self.wait_finished(&[sub.job_id], within).await;
         shutdown.cancel();
         handle.await.expect("worker stops");
