@@ -1,7 +1,7 @@
 //! The pipeline's stages as stages: `ground` alone calls the models and stores what they
 //! decided; a `convert` that fails is retried alone and asks them nothing; a `ground` that fails
-//! is retried alone. The model is the rule-based UniPhysGen test server on loopback, which counts
-//! the requests it gets.
+//! is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
+//! server answering with recorded answers, both on loopback, counting the requests they get.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -174,4 +174,83 @@ async fn a_ground_stage_that_fails_transiently_is_retried_alone() {
             );
         }
     }
+}
+
+/// A chat completion carrying `answer` as the LVLM contract's JSON block.
+fn completion(answer: &Value) -> Value {
+    let text = format!("===BEGIN_JSON===\n{answer:#}\n===END_JSON===");
+    serde_json::json!({
+        "id": "chatcmpl-worker", "object": "chat.completion", "model": "recorded-model",
+        "choices": [{"index": 0, "finish_reason": "stop",
+                     "message": {"role": "assistant", "content": text}}],
+        "usage": {"prompt_tokens": 2000, "completion_tokens": 300, "total_tokens": 2300}
+    })
+}
+
+/// A recorded answer of the annotate crate's fixtures.
+fn recorded(name: &str) -> Value {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../stages/uniphys_annotate/tests/fixtures")
+        .join(name);
+    serde_json::from_str(&std::fs::read_to_string(path).expect("fixture")).expect("json")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn a_convert_retried_after_a_failure_asks_the_lvlm_nothing() {
+    use uniphys_replay::{RecordedRequest, ReplayServer, Reply};
+    let server = ReplayServer::start_with(std::sync::Arc::new(|request: &RecordedRequest| {
+        let answer = if request.body_text().contains("UniPhys properties prompt") {
+            recorded("box_with_lid_properties.json")
+        } else {
+            recorded("box_with_lid_articulation.json")
+        };
+        Reply::json(200, completion(&answer))
+    }))
+    .expect("replay server");
+    let f = fixture().await;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("box_with_lid.glb");
+    let asset = uniphys_examples::example("box_with_lid")
+        .expect("example")
+        .asset;
+    let glb = uniphys_examples::write_glb(&asset, uniphys_examples::GlbFrame::YUp).expect("glb");
+    std::fs::write(&path, glb).expect("write");
+    let convert = ConvertStage {
+        options: RunOptions {
+            lvlm: Some(uniphys_pipeline::LvlmOptions {
+                client: uniphys_lvlm::LvlmConfig {
+                    base_url: format!("{}/v1", server.url()),
+                    model: "recorded-model".into(),
+                    max_concurrency: 2,
+                    ..uniphys_lvlm::LvlmConfig::default()
+                },
+                budget_usd: Some(1.0),
+                annotate: uniphys_annotate::AnnotateOptions {
+                    panel_px: 96,
+                    points_per_part: 400,
+                    ..uniphys_annotate::AnnotateOptions::default()
+                },
+                ..uniphys_pipeline::LvlmOptions::default()
+            }),
+            ..RunOptions::default()
+        },
+    };
+    let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
+        .with(fails_once(convert));
+    let job = f
+        .run_pipeline_with(&path, registry, Duration::from_secs(600))
+        .await;
+    assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
+    assert_eq!(job.stage("convert").expect("convert").attempt, 2);
+    // One properties and one articulation request, both from `ground`.
+    assert_eq!(server.requests().len(), 2, "{:?}", server.requests().len());
+    let ground = job.stage("ground").expect("ground");
+    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    let summary: GroundSummary =
+        serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+    assert!(
+        summary.grounded_by.iter().any(|p| p.starts_with("lvlm:")),
+        "{summary:?}"
+    );
 }
