@@ -147,14 +147,20 @@ pub(crate) fn ground(
                 learned,
             )?);
         }
+        let mut accounting = None;
         if let Some(lvlm) = &options.lvlm {
-            notes.extend(ground_lvlm(asset, prepared, colliders, &mut record, lvlm)?);
+            let lvlm = ground_lvlm(asset, prepared, colliders, &mut record, lvlm)?;
+            notes.extend(lvlm.notes);
+            accounting = Some(lvlm.accounting);
         }
         let movable = record.joints.iter().filter(|j| j.kind.is_movable()).count();
-        let summary = format!(
+        let mut summary = format!(
             "{} movable joints, object mass {:.3} kg ({})",
             movable, record.object.mass_kg.value, record.object.category.value
         );
+        if let Some(accounting) = accounting {
+            summary = format!("{summary}; {accounting}");
+        }
         let hulls = colliders
             .iter()
             .map(|part| part.iter().map(hull_of).collect())

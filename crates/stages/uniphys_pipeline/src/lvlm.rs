@@ -56,15 +56,23 @@ impl std::fmt::Debug for LvlmOptions {
     }
 }
 
+/// What the LVLM grounding wrote: notes for the report, which depend only on the asset and the
+/// answers (a retried stage writes the same bytes), and this attempt's accounting (requests,
+/// cache hits, tokens, cost, times), which does not and goes to the stage's progress summary.
+pub(crate) struct LvlmGrounding {
+    pub(crate) notes: Vec<String>,
+    pub(crate) accounting: String,
+}
+
 /// Replaces part properties (and masses), object name, category and mass, and the joints in
-/// `record` with the model's answers. Returns notes for the report.
+/// `record` with the model's answers.
 pub(crate) fn ground_lvlm(
     asset: &MeshAsset,
     prepared: &[Prepared],
     colliders: &[Vec<TriMesh>],
     record: &mut AssetRecord,
     options: &LvlmOptions,
-) -> PipelineResult<Vec<String>> {
+) -> PipelineResult<LvlmGrounding> {
     let cache: Arc<dyn AnswerCache> = match (&options.cache, &options.cache_dir) {
         (Some(shared), _) => shared.clone(),
         (None, Some(dir)) => Arc::new(DirCache::new(dir.clone())?),
@@ -131,11 +139,8 @@ pub(crate) fn ground_lvlm(
     record.joints = articulation.joints;
     record.validate()?;
 
-    let mut notes = vec![format!(
-        "grounded by the LVLM {} (prompt {}) at {}: {} requests ({} from the cache), {} prompt + {} completion tokens, {:.4} USD{}",
-        annotation.provider,
-        annotation.prompt_version,
-        options.client.base_url,
+    let accounting = format!(
+        "LVLM: {} requests ({} from the cache), {} prompt + {} completion tokens, {:.4} USD{}; {} images rendered in {:.3} s, properties request {:.3} s, articulation requests {:.3} s",
         annotation.cost.total.calls,
         annotation.cost.total.cache_hits,
         annotation.cost.total.prompt_tokens,
@@ -144,15 +149,16 @@ pub(crate) fn ground_lvlm(
         options
             .budget_usd
             .map(|b| format!(" of a {b:.4} USD budget"))
-            .unwrap_or_default()
-    )];
-    notes.push(format!(
-        "LVLM renders: {} images in {:.3} s; properties request {:.3} s, articulation requests {:.3} s",
+            .unwrap_or_default(),
         annotation.timings.images,
         annotation.timings.render_secs,
         annotation.timings.properties_request_secs,
         annotation.timings.articulation_secs
-    ));
+    );
+    let mut notes = vec![format!(
+        "grounded by the LVLM {} (prompt {}) at {}",
+        annotation.provider, annotation.prompt_version, options.client.base_url,
+    )];
     notes.extend(
         annotation
             .motion_issues
@@ -174,5 +180,5 @@ pub(crate) fn ground_lvlm(
         )
     }));
     notes.extend(articulation.notes);
-    Ok(notes)
+    Ok(LvlmGrounding { notes, accounting })
 }

@@ -196,7 +196,7 @@ fn recorded(name: &str) -> Value {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
-async fn a_convert_retried_after_a_failure_asks_the_lvlm_nothing() {
+async fn ground_and_convert_each_lost_once_ask_the_lvlm_once() {
     use uniphys_replay::{RecordedRequest, ReplayServer, Reply};
     let server = ReplayServer::start_with(std::sync::Arc::new(|request: &RecordedRequest| {
         let answer = if request.body_text().contains("UniPhys properties prompt") {
@@ -225,6 +225,7 @@ async fn a_convert_retried_after_a_failure_asks_the_lvlm_nothing() {
                     ..uniphys_lvlm::LvlmConfig::default()
                 },
                 budget_usd: Some(1.0),
+                cache_dir: Some(dir.path().join("lvlm-answers")),
                 annotate: uniphys_annotate::AnnotateOptions {
                     panel_px: 96,
                     points_per_part: 400,
@@ -236,13 +237,19 @@ async fn a_convert_retried_after_a_failure_asks_the_lvlm_nothing() {
         },
     };
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
+        .with(fails_once(uniphys_worker::stages::GroundStage {
+            options: convert.options.clone(),
+        }))
         .with(fails_once(convert));
     let job = f
         .run_pipeline_with(&path, registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    assert_eq!(job.stage("convert").expect("convert").attempt, 2);
-    // One properties and one articulation request, both from `ground`.
+    for stage in ["ground", "convert"] {
+        assert_eq!(job.stage(stage).expect("stage").attempt, 2, "{stage}");
+    }
+    // One properties and one articulation request, from `ground`'s first attempt: its retry
+    // reads the answers from the cache and writes the same grounding, `convert` asks nothing.
     assert_eq!(server.requests().len(), 2, "{:?}", server.requests().len());
     let ground = job.stage("ground").expect("ground");
     let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
