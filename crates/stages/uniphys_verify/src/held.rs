@@ -29,12 +29,11 @@ pub(crate) struct HingeToParent {
 const PIN_IN_PART_FRACTION: f64 = 0.05;
 
 /// How a turning joint's axis line lies against the parent's surface ([`HingeToParent`]); the
-/// moving group is `moving_parts`, sampled at `moving`.
+/// moving group is `moving_parts`, sampled at `moving`, whose box has diagonal `diagonal_m`.
 pub(crate) fn hinge_to_parent_m(
     scene: &Scene,
     motion: &JointMotion,
-    moving_parts: &[usize],
-    moving: &[DVec3],
+    (moving_parts, moving, diagonal_m): (&[usize], &[DVec3], f64),
     parent: usize,
 ) -> HingeToParent {
     if !matches!(motion.kind, JointKind::Revolute | JointKind::Continuous) || moving.is_empty() {
@@ -60,7 +59,7 @@ pub(crate) fn hinge_to_parent_m(
         .map(|p| scene.surfaces.distance_m(parent, *p))
         .collect();
     let mean_m = distances.iter().sum::<f64>() / distances.len() as f64;
-    let in_part_m = PIN_IN_PART_FRACTION * Aabb::from_points(moving).diagonal();
+    let in_part_m = PIN_IN_PART_FRACTION * diagonal_m;
     let in_part: Vec<bool> = line
         .iter()
         .map(|p| {

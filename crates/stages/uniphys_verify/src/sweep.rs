@@ -258,8 +258,13 @@ pub fn sweep(
     };
 
     let tolerance = params.penetration_tolerance_fraction * diag;
-    let hinge = hinge_to_parent_m(scene, &motion, moving, &moving_points, parent);
     let moving_diagonal_m = Aabb::from_points(&moving_points).diagonal();
+    let hinge = hinge_to_parent_m(
+        scene,
+        &motion,
+        (moving, &moving_points, moving_diagonal_m),
+        parent,
+    );
     let (hinge_to_part_m, hinge_to_part_max_m) = if motion.kind == JointKind::Prismatic {
         (0.0, 0.0)
     } else {
