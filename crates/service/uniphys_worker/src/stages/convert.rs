@@ -11,11 +11,10 @@ use uniphys_pipeline::{RunOptions, Stage as PipelineStage, run};
 use uniphys_types::{ConvertSummary, DatasetFacts, ServiceStage};
 
 use crate::outputs::{OutputWriter, summary_value};
-use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::ground::classify;
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{stored_face_parts, stored_grounding};
+use crate::stages::upstream::{pipeline_start, stored_grounding};
 
 /// The pipeline stages a `convert` run goes through after a `ground` stage.
 const AFTER_GROUND: [PipelineStage; 3] = [
@@ -48,10 +47,7 @@ impl Stage for ConvertStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        input.upstream(ServiceStage::Ingest.name())?;
-        let source = SourceFile::fetch(input)?;
-        let mut options = self.options.clone();
-        options.face_parts = stored_face_parts(input)?;
+        let (source, mut options) = pipeline_start(input, &self.options)?;
         options.grounded = stored_grounding(input)?;
         let stages: &[PipelineStage] = if options.grounded.is_some() {
             &AFTER_GROUND

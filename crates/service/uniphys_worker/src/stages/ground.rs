@@ -14,7 +14,7 @@ use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{GROUNDED_FILE, stored_face_parts};
+use crate::stages::upstream::{GROUNDED_FILE, pipeline_start};
 
 /// The pipeline stages a `ground` run goes through.
 const GROUND_STAGES: [PipelineStage; 4] = [
@@ -46,10 +46,7 @@ impl Stage for GroundStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        input.upstream(ServiceStage::Ingest.name())?;
-        let source = SourceFile::fetch(input)?;
-        let mut options = self.options.clone();
-        options.face_parts = stored_face_parts(input)?;
+        let (source, options) = pipeline_start(input, &self.options)?;
         let grounded = ground_asset(
             source.path(),
             &options,

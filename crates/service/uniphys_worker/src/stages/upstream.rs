@@ -1,8 +1,10 @@
 //! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map
 //! and `ground`'s grounding.
 
+use uniphys_pipeline::RunOptions;
 use uniphys_types::{GroundedAsset, ServiceStage};
 
+use crate::source::SourceFile;
 use crate::stage::{StageError, StageInput};
 
 /// The file `convert` and `ground` read from `decompose`'s output.
@@ -10,9 +12,23 @@ pub const FACE_PARTS_FILE: &str = "face_parts.json";
 /// The file `convert` reads from `ground`'s output.
 pub const GROUNDED_FILE: &str = "grounded.json";
 
+/// What a stage running the in-process pipeline starts from: the submitted file (after checking
+/// that `ingest` read it) and `options` with the parts of an upstream `decompose`, when it split
+/// the input.
+pub(crate) fn pipeline_start(
+    input: &StageInput,
+    options: &RunOptions,
+) -> Result<(SourceFile, RunOptions), StageError> {
+    input.upstream(ServiceStage::Ingest.name())?;
+    let source = SourceFile::fetch(input)?;
+    let mut options = options.clone();
+    options.face_parts = stored_face_parts(input)?;
+    Ok((source, options))
+}
+
 /// The face-to-part map written by an upstream `decompose` stage, if the job has one and it
 /// split the input.
-pub(crate) fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError> {
+fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError> {
     read_upstream(input, ServiceStage::Decompose, FACE_PARTS_FILE)
 }
 

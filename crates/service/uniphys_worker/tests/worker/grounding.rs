@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use serde_json::Value;
 use uniphys_pipeline::{LearnedOptions, RunOptions};
-use uniphys_queue::{JobState, OutputManifest};
+use uniphys_queue::{JobDetail, JobState, OutputManifest};
 use uniphys_types::{GroundSummary, GroundedAsset, ServiceStage};
 use uniphys_uniphysgen::test_server::TestServer;
 use uniphys_uniphysgen::{ClientConfig, PointOptions};
@@ -46,6 +46,24 @@ impl<S: Stage> Stage for FailsOnce<S> {
         }
         Ok(summary)
     }
+}
+
+/// Every stage of `job` ran once, but the `retried` ones, which ran twice.
+fn assert_retried_alone(job: &JobDetail, retried: &[ServiceStage]) {
+    for stage in ServiceStage::ALL {
+        let run = job.stage(stage.name()).expect("every stage ran");
+        let attempts = if retried.contains(&stage) { 2 } else { 1 };
+        assert_eq!(run.attempt, attempts, "{}", stage.name());
+    }
+}
+
+/// The manifest of `job`'s `ground` run and its summary.
+fn ground_output(job: &JobDetail) -> (OutputManifest, GroundSummary) {
+    let ground = job.stage("ground").expect("ground");
+    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
+        .expect("shape");
+    let summary = serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+    (manifest, summary)
 }
 
 fn fails_once<S: Stage>(stage: S) -> FailsOnce<S> {
@@ -91,18 +109,10 @@ async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
         .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    for stage in ServiceStage::ALL {
-        let run = job.stage(stage.name()).expect("every stage ran");
-        let retried = stage == ServiceStage::Convert;
-        assert_eq!(run.attempt, if retried { 2 } else { 1 }, "{}", stage.name());
-    }
+    assert_retried_alone(&job, &[ServiceStage::Convert]);
     // Only `ground` asked the model: one request per task, none from either attempt of
     // `convert`.
-    let ground = job.stage("ground").expect("ground");
-    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
-        .expect("shape");
-    let summary: GroundSummary =
-        serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+    let (manifest, summary) = ground_output(&job);
     assert!(
         summary
             .grounded_by
@@ -162,18 +172,13 @@ async fn a_ground_stage_that_fails_transiently_is_retried_alone() {
         .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    for stage in ServiceStage::ALL {
-        let run = job.stage(stage.name()).expect("every stage ran");
-        let retried = stage == ServiceStage::Ground;
-        assert_eq!(run.attempt, if retried { 2 } else { 1 }, "{}", stage.name());
-        if retried {
-            assert!(
-                run.errors[0].message.contains("a worker lost mid-stage"),
-                "{:?}",
-                run.errors
-            );
-        }
-    }
+    assert_retried_alone(&job, &[ServiceStage::Ground]);
+    let ground = job.stage("ground").expect("ground");
+    assert!(
+        ground.errors[0].message.contains("a worker lost mid-stage"),
+        "{:?}",
+        ground.errors
+    );
 }
 
 /// A chat completion carrying `answer` as the LVLM contract's JSON block.
@@ -245,17 +250,11 @@ async fn ground_and_convert_each_lost_once_ask_the_lvlm_once() {
         .run_pipeline_with(&path, registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    for stage in ["ground", "convert"] {
-        assert_eq!(job.stage(stage).expect("stage").attempt, 2, "{stage}");
-    }
+    assert_retried_alone(&job, &[ServiceStage::Ground, ServiceStage::Convert]);
     // One properties and one articulation request, from `ground`'s first attempt: its retry
     // reads the answers from the cache and writes the same grounding, `convert` asks nothing.
     assert_eq!(server.requests().len(), 2, "{:?}", server.requests().len());
-    let ground = job.stage("ground").expect("ground");
-    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
-        .expect("shape");
-    let summary: GroundSummary =
-        serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+    let (_, summary) = ground_output(&job);
     assert!(
         summary.grounded_by.iter().any(|p| p.starts_with("lvlm:")),
         "{summary:?}"
