@@ -19,6 +19,7 @@ mod report;
 mod service_stage;
 mod summary;
 pub mod units;
+mod verified;
 pub mod words;
 
 pub use asset::{
@@ -38,4 +39,6 @@ pub use report::{CheckOutcome, CheckResult, ReportSection, VerificationReport};
 pub use service_stage::ServiceStage;
 pub use summary::{
     ConvertSummary, DatasetFacts, DecomposeStageSummary, GroundSummary, IngestSummary,
+    VerifySummary,
 };
+pub use verified::{VERIFIED_VERSION, VerifiedAsset};

@@ -5,7 +5,8 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-/// A stage of the job queue's pipeline: `ingest` → `decompose` → `ground` → `convert`.
+/// A stage of the job queue's pipeline: `ingest` → `decompose` → `ground` → `verify` →
+/// `convert`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ServiceStage {
@@ -16,13 +17,23 @@ pub enum ServiceStage {
     /// Grounds the parts: materials, properties, masses and joints, by the built-in grounder and,
     /// when configured, a UniPhysGen server and an LVLM (the only stage that calls them).
     Ground,
-    /// Verifies the grounded asset (correcting joints that fail their sweep) and exports it.
+    /// Verifies the grounded asset: intrinsic checks, joints swept (and corrected when they fail
+    /// their sweep), the dynamic check.
+    Verify,
+    /// Exports the verified asset (URDF, MJCF, meshes, record, report); in a job without a
+    /// `verify` stage (submitted before it existed) it verifies first.
     Convert,
 }
 
 impl ServiceStage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Self; 4] = [Self::Ingest, Self::Decompose, Self::Ground, Self::Convert];
+    pub const ALL: [Self; 5] = [
+        Self::Ingest,
+        Self::Decompose,
+        Self::Ground,
+        Self::Verify,
+        Self::Convert,
+    ];
 
     /// The name runs are claimed by and stored under.
     #[must_use]
@@ -31,6 +42,7 @@ impl ServiceStage {
             Self::Ingest => "ingest",
             Self::Decompose => "decompose",
             Self::Ground => "ground",
+            Self::Verify => "verify",
             Self::Convert => "convert",
         }
     }

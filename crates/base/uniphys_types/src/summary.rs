@@ -2,7 +2,8 @@
 //! worker and read back by the API's batch statistics and the worker's own tests: one type per
 //! stage on both sides. `ingest` reports the file it read ([`IngestSummary`]), `decompose`
 //! whether and how it split the mesh ([`DecomposeStageSummary`]), `ground` what grounding decided
-//! ([`GroundSummary`]), `convert` the finished asset ([`ConvertSummary`]).
+//! ([`GroundSummary`]), `verify` what its checks found ([`VerifySummary`]), `convert` the finished
+//! asset ([`ConvertSummary`]).
 
 use std::collections::BTreeMap;
 
@@ -88,6 +89,22 @@ pub struct GroundSummary {
     /// Who grounded the parts' materials, the category and the joints: providers by name
     /// (`builtin-grounder`, a model's name), other sources by label (`rule:...`), each once.
     pub grounded_by: Vec<String>,
+}
+
+/// The `verify` stage's summary of one asset: its joints' sweeps and the other checks.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct VerifySummary {
+    /// Movable joints swept.
+    pub joints_swept: usize,
+    /// Joints that passed their sweep as grounded.
+    pub joints_passed: usize,
+    /// Joints replaced by a correction that passed.
+    pub joints_corrected: usize,
+    /// Whether the intrinsic checks (levels 0-4) passed.
+    pub intrinsic_passed: bool,
+    /// Whether every verification section passed (the asset is exported either way).
+    pub passed: bool,
 }
 
 /// The `convert` stage's summary of one asset. Every field has a default, so a summary written

@@ -1,11 +1,12 @@
 //! The pipeline as queue stages against the pipeline in one `convert`, in the same run: N assets
 //! (the example assets, each moved a little so every file differs) through
-//! `ingest → decompose → ground → convert` and through `ingest → decompose → convert` (with no
-//! `ground` upstream, `convert` grounds itself), on one worker with one slot per stage, grounding
-//! with the rule-based UniPhysGen test server on loopback. A share of the `convert` runs fails at
-//! the end of its first attempt, as a worker killed mid-stage would; the queue retries it. Prints
-//! wall time and the model requests each graph sent. The stage graph has one slot more (its
-//! `ground`), so a worker runs a `ground` and a `convert` of different assets at once.
+//! `ingest → decompose → ground → verify → convert` and through `ingest → decompose → convert`
+//! (with no `ground` or `verify` upstream, `convert` grounds and verifies itself), on one worker
+//! with one slot per stage, grounding with the rule-based UniPhysGen test server on loopback. A
+//! share of the `convert` runs fails at the end of its first attempt, as a worker killed
+//! mid-stage would; the queue retries it. Prints wall time and the model requests each graph
+//! sent. The stage graph has two slots more (its `ground` and `verify`), so a worker runs stages
+//! of different assets at once.
 //!
 //! `cargo bench -p uniphys_worker --bench stage_pipeline -- [ASSETS] [DATABASE_URL]`
 //! (default 100 assets on a temporary SQLite file, the embedded default; with a PostgreSQL URL it
@@ -75,7 +76,7 @@ impl Stage for FlakyConvert {
     }
 }
 
-/// The graph without a `ground` stage: `convert` grounds itself.
+/// The graph without `ground` and `verify` stages: `convert` grounds and verifies itself.
 fn convert_only_spec() -> JobSpec {
     use ServiceStage::{Convert, Decompose, Ingest};
     JobSpec::new(vec![
@@ -283,7 +284,7 @@ async fn main() {
             let graph = if label == "convert" {
                 "ingest → decompose → convert (today)"
             } else {
-                "ingest → decompose → ground → convert"
+                "ingest → decompose → ground → verify → convert"
             };
             let (wall_ratio, request_ratio) = baseline.as_ref().map_or((1.0, 1.0), |b| {
                 (

@@ -8,7 +8,9 @@ use uniphys_queue::{JobSpec, StageSpec};
 use uniphys_types::ServiceStage;
 
 use crate::stage::Stage;
-use crate::stages::{ConvertStage, DecomposeStage, GroundStage, IngestStage, StandInStage};
+use crate::stages::{
+    ConvertStage, DecomposeStage, GroundStage, IngestStage, StandInStage, VerifyStage,
+};
 
 /// Stages by name.
 #[derive(Clone, Default)]
@@ -23,8 +25,8 @@ impl std::fmt::Debug for StageRegistry {
 }
 
 impl StageRegistry {
-    /// The real pipeline with default options: `ingest`, `decompose` (auto), `ground` and
-    /// `convert`.
+    /// The real pipeline with default options: `ingest`, `decompose` (auto), `ground`, `verify`
+    /// and `convert`.
     #[must_use]
     pub fn pipeline() -> Self {
         Self::pipeline_with(DecomposeStage::default(), ConvertStage::default())
@@ -32,8 +34,9 @@ impl StageRegistry {
 
     /// The real pipeline with the given `decompose` and `convert` stages (their options: the
     /// decomposition mode, an LVLM or a UniPhysGen server, verification parameters). `ground`
-    /// runs with `convert`'s options, and it alone calls the models; `convert`'s reader options
-    /// are used by `ingest` and `decompose` too, so every stage sees the same faces.
+    /// and `verify` run with `convert`'s options, and `ground` alone calls the models;
+    /// `convert`'s reader options are used by `ingest` and `decompose` too, so every stage sees
+    /// the same faces.
     #[must_use]
     pub fn pipeline_with(decompose: DecomposeStage, convert: ConvertStage) -> Self {
         let ingest = convert.options.ingest.clone();
@@ -46,6 +49,9 @@ impl StageRegistry {
                 ..decompose
             })
             .with(GroundStage {
+                options: convert.options.clone(),
+            })
+            .with(VerifyStage {
                 options: convert.options.clone(),
             })
             .with(convert)
@@ -82,26 +88,24 @@ impl StageRegistry {
 /// Attempts of a pipeline stage before it is dead-lettered.
 const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 
-/// The stage graph every submitted asset gets: `ingest` → `decompose` → `ground` → `convert`
-/// (each later stage also reads the outputs of the earlier ones, so it depends on all of them).
+/// The stage graph every submitted asset gets: `ingest` → `decompose` → `ground` → `verify` →
+/// `convert` (each later stage also reads the outputs of the earlier ones, so it depends on all
+/// of them).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
-    use ServiceStage::{Convert, Decompose, Ground, Ingest};
-    JobSpec::new(vec![
-        StageSpec::new(Ingest.name()).with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-        StageSpec::new(Decompose.name())
-            .after(Ingest.name())
-            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-        StageSpec::new(Ground.name())
-            .after(Ingest.name())
-            .after(Decompose.name())
-            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-        StageSpec::new(Convert.name())
-            .after(Ingest.name())
-            .after(Decompose.name())
-            .after(Ground.name())
-            .with_max_attempts(PIPELINE_MAX_ATTEMPTS),
-    ])
+    let stages = ServiceStage::ALL
+        .iter()
+        .enumerate()
+        .map(|(i, stage)| {
+            ServiceStage::ALL[..i]
+                .iter()
+                .fold(StageSpec::new(stage.name()), |spec, before| {
+                    spec.after(before.name())
+                })
+                .with_max_attempts(PIPELINE_MAX_ATTEMPTS)
+        })
+        .collect();
+    JobSpec::new(stages)
 }
 
 #[cfg(test)]
@@ -118,7 +122,22 @@ mod tests {
         }
         assert_eq!(
             registry.names(),
-            ["convert", "decompose", "ground", "ingest"]
+            ["convert", "decompose", "ground", "ingest", "verify"]
         );
+    }
+
+    #[test]
+    fn every_pipeline_stage_waits_for_every_stage_before_it() {
+        let spec = pipeline_job_spec();
+        let names: Vec<&str> = spec.stages.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(
+            names,
+            ["ingest", "decompose", "ground", "verify", "convert"]
+        );
+        for (i, stage) in spec.stages.iter().enumerate() {
+            let before: Vec<&str> = names[..i].to_vec();
+            assert_eq!(stage.depends_on, before, "{}", stage.name);
+            assert_eq!(stage.max_attempts, PIPELINE_MAX_ATTEMPTS);
+        }
     }
 }

@@ -49,6 +49,10 @@ pub enum PipelineError {
     /// A grounding stored by an earlier `ground` stage does not fit the input it is applied to.
     #[error("the stored grounding does not fit the input: {0}")]
     StoredGrounding(String),
+    /// A verification stored by an earlier `verify` stage does not fit the grounding it is
+    /// applied to.
+    #[error("the stored verification does not fit the grounding: {0}")]
+    StoredVerification(String),
 }
 
 impl PipelineError {

@@ -1,11 +1,13 @@
 //! The `verify` and `export` stages of a run: the grounded record checked (intrinsic levels,
-//! articulation sweeps with correction), the parents' colliders carved where their parts move,
-//! and every file written.
+//! articulation sweeps with correction) into a [`VerifiedAsset`], which the queue stores so that
+//! a retried export checks nothing again; then the parents' colliders carved where their parts
+//! move, and every file written.
 
 use uniphys_export::{Artifact, ExportInput, export};
 use uniphys_geometry::{DistanceProbe, MeshAsset, TriMesh, display_rgba, parallel_map};
 use uniphys_types::{
     AssetRecord, CheckOutcome, CheckResult, PartId, ReportSection, VerificationReport,
+    VerifiedAsset,
 };
 
 use crate::cavities::carve_cavities;
@@ -15,7 +17,7 @@ use crate::run::{Clock, RunOptions};
 use crate::verify::verify;
 use crate::{PipelineResult, Stage};
 
-/// What the last stages produced.
+/// What the last stage produced.
 pub(crate) struct Finished {
     /// The verified record (corrections applied).
     pub(crate) record: AssetRecord,
@@ -25,23 +27,22 @@ pub(crate) struct Finished {
     pub(crate) report: VerificationReport,
 }
 
-/// Verifies `record` (grounded on `input`'s parts, with `colliders`) and exports it; `notes`
-/// are what the earlier stages did, extended here.
-pub(crate) fn verify_and_export(
+/// The `verify` stage: `record` (grounded on `input`'s parts, with `colliders`) checked and its
+/// failing joints corrected.
+pub(crate) fn verify_grounded(
     input: &Input,
     record: AssetRecord,
-    mut colliders: Vec<Vec<TriMesh>>,
-    mut notes: Vec<String>,
+    colliders: &[Vec<TriMesh>],
     options: &RunOptions,
     clock: &mut Clock<'_>,
-) -> PipelineResult<Finished> {
+) -> PipelineResult<VerifiedAsset> {
     let asset = &input.asset;
-    let meshes: Vec<TriMesh> = asset.parts.iter().map(|p| p.mesh.clone()).collect();
-    // Touching pairs serve verification (the dynamic check's contact filter) and export (MJCF
-    // excludes): computed once, timed with verification.
-    let (record, verified, touching) = clock.stage(Stage::Verify, || {
+    let meshes = part_meshes(asset);
+    clock.stage(Stage::Verify, || {
+        // Touching pairs serve verification (the dynamic check's contact filter) and export
+        // (MJCF excludes): computed once, timed with verification.
         let touching = touching_pairs(asset, options.touching_fraction);
-        let verified = verify(record, &meshes, &colliders, &touching, &options.verify)?;
+        let verified = verify(record, &meshes, colliders, touching, &options.verify)?;
         let summary = format!(
             "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
             verified.joints_passed,
@@ -53,9 +54,30 @@ pub(crate) fn verify_and_export(
                 "failed"
             }
         );
-        Ok(((verified.record.clone(), verified, touching), summary))
-    })?;
-    notes.extend(verified.corrections.iter().cloned());
+        Ok((verified, summary))
+    })
+}
+
+/// The `export` stage: the parents' colliders carved where their parts move, and every file of
+/// `verified` written; `notes` are what the stages before verification did.
+pub(crate) fn export_verified(
+    input: &Input,
+    verified: VerifiedAsset,
+    mut colliders: Vec<Vec<TriMesh>>,
+    mut notes: Vec<String>,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<Finished> {
+    let asset = &input.asset;
+    let meshes = part_meshes(asset);
+    let VerifiedAsset {
+        record,
+        sections,
+        metrics,
+        corrections,
+        touching,
+        ..
+    } = verified;
+    notes.extend(corrections);
     let carved = carve_cavities(&record, &meshes, &mut colliders);
     if carved > 0 {
         notes.push(format!(
@@ -72,8 +94,8 @@ pub(crate) fn verify_and_export(
         report
             .sections
             .push(ingest_section(input.dropped, &input.warnings));
-        report.sections.extend(verified.sections.iter().cloned());
-        report.metrics.extend(verified.metrics.clone());
+        report.sections.extend(sections);
+        report.metrics.extend(metrics);
         let out = export(&ExportInput {
             record: &record,
             part_meshes: &meshes,
@@ -100,6 +122,10 @@ pub(crate) fn verify_and_export(
         artifacts,
         report,
     })
+}
+
+fn part_meshes(asset: &MeshAsset) -> Vec<TriMesh> {
+    asset.parts.iter().map(|p| p.mesh.clone()).collect()
 }
 
 fn touching_pairs(asset: &MeshAsset, fraction: f64) -> Vec<(PartId, PartId)> {

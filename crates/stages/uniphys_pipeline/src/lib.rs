@@ -4,8 +4,9 @@
 //! (built-in grounder, optionally a UniPhysGen model server or an LVLM: `grounding`), verify
 //! (intrinsic checks, articulation sweeps with correction) and export (`finish`).
 //! The job-queue workers run the same stage functions: the `ground` stage calls [`ground_asset`]
-//! and stores what it returns, `convert` calls [`run`] with it as `RunOptions::grounded` (no
-//! model is asked again); `uniphys run` calls [`run`].
+//! and stores what it returns, `verify` calls [`verify_asset`] with it as `RunOptions::grounded`
+//! (no model is asked again) and stores what that returns, `convert` calls [`run`] with both
+//! (`RunOptions::verified`: only export runs); `uniphys run` calls [`run`].
 
 mod cavities;
 mod error;
@@ -26,5 +27,5 @@ pub use input::asset_name;
 pub use learned::LearnedOptions;
 pub use lvlm::LvlmOptions;
 pub use progress::{NoProgress, Progress, Stage};
-pub use run::{RunOptions, RunOutput, ground_asset, run};
+pub use run::{RunOptions, RunOutput, ground_asset, run, verify_asset};
 pub use verify::VerifyOptions;

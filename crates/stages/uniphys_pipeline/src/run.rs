@@ -1,6 +1,6 @@
 //! `run`: the whole pipeline on one asset, in process; [`ground_asset`]: its stages up to
-//! grounding, whose result a later `run` takes instead of grounding again (the queue's `ground`
-//! stage, then `convert`).
+//! grounding, and [`verify_asset`]: up to verification, whose results a later `run` takes instead
+//! of grounding or verifying again (the queue's `ground` and `verify` stages, then `convert`).
 //!
 //! Stages: ingest (`input`), prepare (mass properties), colliders (convex decomposition), ground
 //! (materials, properties, articulation chosen by sweeps; `grounding`), verify (intrinsic levels
@@ -11,17 +11,17 @@ use std::time::{Duration, Instant};
 
 use uniphys_decompose::{DecomposeMode, DecomposeOptions};
 use uniphys_export::Artifact;
-use uniphys_geometry::ConvexParams;
+use uniphys_geometry::{ConvexParams, TriMesh};
 use uniphys_mesh_io::IngestOptions;
-use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport};
+use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport, VerifiedAsset};
 
-use crate::finish::verify_and_export;
+use crate::finish::{export_verified, verify_grounded};
 use crate::grounding::{colliders, ground, prepare, stored_colliders, stored_grounding};
-use crate::input::read_input;
+use crate::input::{Input, read_input};
 use crate::learned::LearnedOptions;
 use crate::lvlm::LvlmOptions;
 use crate::verify::VerifyOptions;
-use crate::{PipelineResult, Progress, Stage};
+use crate::{PipelineError, PipelineResult, Progress, Stage};
 
 /// Options of an in-process run.
 #[derive(Debug, Clone)]
@@ -56,6 +56,10 @@ pub struct RunOptions {
     /// again, so no UniPhysGen or LVLM request is sent. It must name the parts the input is read
     /// into.
     pub grounded: Option<GroundedAsset>,
+    /// What an earlier run of the `verify` stage decided ([`verify_asset`]; the queue's `verify`
+    /// stage) on `grounded`, which it needs: used instead of verifying again, so only export
+    /// runs.
+    pub verified: Option<VerifiedAsset>,
     /// `--unit auto`: an input whose coordinates are not a length (a PartNet-Mobility folder)
     /// is scaled to the typical size of its kind, and one whose unit makes it implausible for
     /// its kind is read in the common unit that fits (see `real_scale.rs`); off when the user
@@ -77,6 +81,7 @@ impl Default for RunOptions {
             decompose_mode: DecomposeMode::Always,
             face_parts: None,
             grounded: None,
+            verified: None,
             unit_auto: true,
         }
     }
@@ -127,36 +132,21 @@ impl<'a> Clock<'a> {
 
 /// Runs ingest, prepare, colliders, ground, verify and export on the asset at `path`; with
 /// `options.grounded`, prepare, colliders and ground are skipped and the stored grounding (with
-/// its colliders) is verified.
+/// its colliders) is verified; with `options.verified` too, only export runs.
 pub fn run(
     path: &Path,
     options: &RunOptions,
     progress: &dyn Progress,
 ) -> PipelineResult<RunOutput> {
     let mut clock = Clock::new(progress);
-    let input = read_input(path, options, &mut clock)?;
-    let (colliders, grounded) = match &options.grounded {
-        Some(stored) => {
-            let grounded = stored_grounding(stored, &input.asset)?;
-            (stored_colliders(&grounded)?, grounded)
-        }
-        None => {
-            let prepared = prepare(&input, options, &mut clock)?;
-            let colliders = colliders(&input, options, &mut clock)?;
-            let grounded = ground(&input, &prepared, &colliders, options, &mut clock)?;
-            (colliders, grounded)
-        }
+    let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
+    let verified = match &options.verified {
+        Some(stored) => stored_verification(stored, &grounded.record)?,
+        None => verify_grounded(&input, grounded.record, &colliders, options, &mut clock)?,
     };
     let mut notes = input.notes.clone();
     notes.extend(grounded.notes);
-    let finished = verify_and_export(
-        &input,
-        grounded.record,
-        colliders,
-        notes,
-        options,
-        &mut clock,
-    )?;
+    let finished = export_verified(&input, verified, colliders, notes, &mut clock)?;
     Ok(RunOutput {
         record: finished.record,
         artifacts: finished.artifacts,
@@ -177,4 +167,59 @@ pub fn ground_asset(
     let prepared = prepare(&input, options, &mut clock)?;
     let colliders = colliders(&input, options, &mut clock)?;
     ground(&input, &prepared, &colliders, options, &mut clock)
+}
+
+/// Runs ingest and verify on the asset at `path` grounded as `options.grounded` says (or, without
+/// it, grounded here first) and returns what verification decided, for a later [`run`] with
+/// `options.verified` (`options.verified` itself is ignored).
+pub fn verify_asset(
+    path: &Path,
+    options: &RunOptions,
+    progress: &dyn Progress,
+) -> PipelineResult<VerifiedAsset> {
+    let mut clock = Clock::new(progress);
+    let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
+    verify_grounded(&input, grounded.record, &colliders, options, &mut clock)
+}
+
+/// The input read, with its colliders and grounding: stored ones when `options.grounded` has
+/// them, else prepared, decomposed into hulls and grounded here.
+fn grounded_input(
+    path: &Path,
+    options: &RunOptions,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<(Input, Vec<Vec<TriMesh>>, GroundedAsset)> {
+    let input = read_input(path, options, clock)?;
+    let (colliders, grounded) = match &options.grounded {
+        Some(stored) => {
+            let grounded = stored_grounding(stored, &input.asset)?;
+            (stored_colliders(&grounded)?, grounded)
+        }
+        None => {
+            let prepared = prepare(&input, options, clock)?;
+            let colliders = colliders(&input, options, clock)?;
+            let grounded = ground(&input, &prepared, &colliders, options, clock)?;
+            (colliders, grounded)
+        }
+    };
+    Ok((input, colliders, grounded))
+}
+
+/// A verification stored by an earlier run of the `verify` stage, checked against the grounding
+/// it is applied to: the same parts, by count and name.
+fn stored_verification(
+    verified: &VerifiedAsset,
+    grounded: &AssetRecord,
+) -> PipelineResult<VerifiedAsset> {
+    let verified = verified.clone().checked()?;
+    let names =
+        |r: &AssetRecord| -> Vec<String> { r.parts.iter().map(|p| p.name.clone()).collect() };
+    if names(&verified.record) != names(grounded) {
+        return Err(PipelineError::StoredVerification(format!(
+            "it names the parts {:?}, the grounding has {:?}",
+            names(&verified.record),
+            names(grounded)
+        )));
+    }
+    Ok(verified)
 }

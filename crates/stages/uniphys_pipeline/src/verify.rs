@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use uniphys_geometry::TriMesh;
 use uniphys_simulate::{DynamicParams, check_dynamics};
-use uniphys_types::{AssetRecord, CheckOutcome, PartId, ReportSection};
+use uniphys_types::{AssetRecord, CheckOutcome, PartId, VERIFIED_VERSION, VerifiedAsset};
 use uniphys_verify::{Scene, SweepParams, verify_articulation, verify_intrinsic};
 
 use crate::PipelineResult;
@@ -36,23 +36,6 @@ impl Default for VerifyOptions {
     }
 }
 
-/// What verification produced.
-#[derive(Debug, Clone)]
-pub(crate) struct Verified {
-    /// The record with corrected joints.
-    pub(crate) record: AssetRecord,
-    /// Sections `intrinsic`, `articulation` and `dynamics`.
-    pub(crate) sections: Vec<ReportSection>,
-    /// Numbers behind the checks, by subject; joint metrics are prefixed `sweep_` and
-    /// `dynamics_`.
-    pub(crate) metrics: BTreeMap<String, BTreeMap<String, f64>>,
-    /// One line per corrected joint.
-    pub(crate) corrections: Vec<String>,
-    pub(crate) joints_swept: usize,
-    pub(crate) joints_passed: usize,
-    pub(crate) intrinsic_passed: bool,
-}
-
 /// Runs intrinsic and articulation verification; failed joints are corrected when a variant
 /// passes (the record then carries the corrected joint); then the dynamic check on the corrected
 /// record, ignoring contacts between `touching_pairs` as the exported MJCF does.
@@ -60,9 +43,9 @@ pub(crate) fn verify(
     mut record: AssetRecord,
     meshes: &[TriMesh],
     colliders: &[Vec<TriMesh>],
-    touching_pairs: &[(PartId, PartId)],
+    touching_pairs: Vec<(PartId, PartId)>,
     options: &VerifyOptions,
-) -> PipelineResult<Verified> {
+) -> PipelineResult<VerifiedAsset> {
     let intrinsic = verify_intrinsic(&record);
     let scene = Scene::new(meshes, colliders, options.samples_per_part)?;
     let articulation =
@@ -81,18 +64,20 @@ pub(crate) fn verify(
     metrics.insert("object".to_owned(), intrinsic.metrics.clone());
     let mut sections = vec![intrinsic.section.clone(), articulation.section];
     if let Some(params) = &options.dynamics {
-        let dynamics = check_dynamics(&record, colliders, touching_pairs, params)?;
+        let dynamics = check_dynamics(&record, colliders, &touching_pairs, params)?;
         merge_prefixed(&mut metrics, &dynamics.metrics(), "dynamics_");
         sections.push(dynamics.to_report_section());
     }
-    Ok(Verified {
+    Ok(VerifiedAsset {
+        version: VERIFIED_VERSION,
         record,
-        intrinsic_passed: intrinsic.section.passed(),
         sections,
         metrics,
         corrections: articulation.corrections,
+        touching: touching_pairs,
         joints_swept,
         joints_passed,
+        intrinsic_passed: intrinsic.section.passed(),
     })
 }
 

@@ -3,7 +3,9 @@
 //! still runs.
 
 use uniphys_examples::{GlbFrame, example, write_glb};
-use uniphys_pipeline::{LearnedOptions, NoProgress, PipelineError, RunOptions, ground_asset, run};
+use uniphys_pipeline::{
+    LearnedOptions, NoProgress, PipelineError, RunOptions, Stage, ground_asset, run, verify_asset,
+};
 use uniphys_types::Provenance;
 use uniphys_uniphysgen::test_server::TestServer;
 use uniphys_uniphysgen::{ClientConfig, PointOptions};
@@ -89,6 +91,75 @@ fn a_stored_grounding_is_verified_and_exported_without_asking_the_model_again() 
         artifacts.iter().map(|a| a.path.clone()).collect::<Vec<_>>()
     };
     assert_eq!(files(&out.artifacts), files(&whole.artifacts));
+}
+
+// The queue's `verify` stage stores what verification decided; `convert` exports it without
+// verifying again, and writes the same bytes one run would.
+#[test]
+fn a_stored_verification_is_exported_alone_and_gives_the_files_of_one_run() {
+    let server = TestServer::start().expect("test server");
+    let (_dir, path) = cabinet();
+    let options = learned(server.url());
+    let whole = run(&path, &options, &NoProgress).expect("learned run");
+    let grounded = ground_asset(&path, &options, &NoProgress).expect("grounding");
+    let grounded_options = RunOptions {
+        grounded: Some(grounded),
+        ..options
+    };
+    let verified = verify_asset(&path, &grounded_options, &NoProgress).expect("verification");
+    let asked = server.predict_requests();
+    let stored = serde_json::to_vec(&verified).expect("a verification serialises");
+    let again = RunOptions {
+        verified: Some(serde_json::from_slice(&stored).expect("and reads back")),
+        ..grounded_options
+    };
+    let out = run(&path, &again, &NoProgress).expect("run from the stored verification");
+    assert_eq!(
+        server.predict_requests(),
+        asked,
+        "no request after grounding"
+    );
+    let stages: Vec<Stage> = out.timings.iter().map(|(stage, _)| *stage).collect();
+    assert_eq!(stages, [Stage::Ingest, Stage::Export]);
+    assert_eq!(out.record, whole.record);
+    assert_eq!(out.artifacts.len(), whole.artifacts.len());
+    for (a, b) in out.artifacts.iter().zip(&whole.artifacts) {
+        assert_eq!(a.path, b.path);
+        assert!(a.bytes == b.bytes, "{} differs from one run's", a.path);
+    }
+}
+
+#[test]
+fn a_stored_verification_of_other_parts_is_refused() {
+    let (_dir, path) = cabinet();
+    let grounded = ground_asset(&path, &RunOptions::default(), &NoProgress).expect("grounding");
+    let options = RunOptions {
+        grounded: Some(grounded),
+        ..RunOptions::default()
+    };
+    let mut verified = verify_asset(&path, &options, &NoProgress).expect("verification");
+    verified.record.parts[0].name = "not_a_part_of_the_cabinet".to_owned();
+    let stored = RunOptions {
+        verified: Some(verified.clone()),
+        ..options.clone()
+    };
+    let error = run(&path, &stored, &NoProgress).expect_err("other parts");
+    assert!(
+        matches!(error, PipelineError::StoredVerification(_)),
+        "{error}"
+    );
+    assert!(
+        error.to_string().contains("not_a_part_of_the_cabinet"),
+        "{error}"
+    );
+
+    verified.version += 1;
+    let stored = RunOptions {
+        verified: Some(verified),
+        ..options
+    };
+    let error = run(&path, &stored, &NoProgress).expect_err("another version");
+    assert!(error.to_string().contains("version"), "{error}");
 }
 
 #[test]

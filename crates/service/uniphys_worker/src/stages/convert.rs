@@ -1,10 +1,12 @@
-//! `convert`: verification and export of the grounding an upstream `ground` stage stored (or,
-//! in a job without one, the whole in-process pipeline) on the submitted file; writes every
-//! exported file (URDF, MJCF, meshes, record, report) as artifacts. An asset that fails
-//! verification is still written, with `passed: false` in the summary, exactly as `uniphys run`
-//! does. When the job has a `decompose` stage that split the input, its face-to-part map gives
-//! the parts. With a stored grounding no UniPhysGen server or LVLM is asked: a retry of this
-//! stage repeats no model request.
+//! `convert`: export of the verification an upstream `verify` stage stored of the grounding an
+//! upstream `ground` stage stored, on the submitted file; writes every exported file (URDF, MJCF,
+//! meshes, record, report) as artifacts. A job submitted before those stages existed has
+//! neither (or only the grounding): the missing stages run here in process, as `uniphys run`
+//! runs them. An asset that fails verification is still written, with `passed: false` in the
+//! summary, exactly as `uniphys run` does. When the job has a `decompose` stage that split the
+//! input, its face-to-part map gives the parts. With a stored grounding no UniPhysGen server or
+//! LVLM is asked, and with a stored verification nothing is verified again: a retry of this
+//! stage repeats neither.
 
 use serde_json::Value;
 use uniphys_pipeline::{RunOptions, Stage as PipelineStage, run};
@@ -14,9 +16,11 @@ use crate::outputs::{OutputWriter, summary_value};
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::ground::classify;
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{pipeline_start, stored_grounding};
+use crate::stages::upstream::{pipeline_start, stored_grounding, stored_verification};
 
-/// The pipeline stages a `convert` run goes through after a `ground` stage.
+/// The pipeline stages a `convert` run goes through after a `verify` stage.
+const AFTER_VERIFY: [PipelineStage; 2] = [PipelineStage::Ingest, PipelineStage::Export];
+/// ... after a `ground` stage only (a job submitted before `verify` existed).
 const AFTER_GROUND: [PipelineStage; 3] = [
     PipelineStage::Ingest,
     PipelineStage::Verify,
@@ -38,7 +42,8 @@ impl Stage for ConvertStage {
     fn version(&self) -> u32 {
         // 2: the parts come from an upstream `decompose` when it split the input.
         // 3: the grounding comes from an upstream `ground` when the job has one.
-        3
+        // 4: the verification comes from an upstream `verify` when the job has one.
+        4
     }
 
     fn run(
@@ -49,10 +54,13 @@ impl Stage for ConvertStage {
     ) -> Result<Value, StageError> {
         let (source, mut options) = pipeline_start(input, &self.options)?;
         options.grounded = stored_grounding(input)?;
-        let stages: &[PipelineStage] = if options.grounded.is_some() {
-            &AFTER_GROUND
-        } else {
-            &PipelineStage::ALL
+        if options.grounded.is_some() {
+            options.verified = stored_verification(input)?;
+        }
+        let stages: &[PipelineStage] = match (&options.grounded, &options.verified) {
+            (Some(_), Some(_)) => &AFTER_VERIFY,
+            (Some(_), None) => &AFTER_GROUND,
+            (None, _) => &PipelineStage::ALL,
         };
         let output = run(source.path(), &options, &Relay::new(control, stages))
             .map_err(|e| classify(&e, &source))?;

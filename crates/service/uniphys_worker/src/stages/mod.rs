@@ -7,10 +7,12 @@ mod ingest;
 mod relay;
 mod standin;
 mod upstream;
+mod verify;
 
 pub use convert::ConvertStage;
 pub use decompose::DecomposeStage;
 pub use ground::GroundStage;
 pub use ingest::IngestStage;
 pub use standin::{StandInStage, standin_output};
-pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE};
+pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE, VERIFIED_FILE};
+pub use verify::VerifyStage;

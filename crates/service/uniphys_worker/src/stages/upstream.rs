@@ -1,16 +1,18 @@
-//! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map
-//! and `ground`'s grounding.
+//! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map,
+//! `ground`'s grounding and `verify`'s verification.
 
 use uniphys_pipeline::RunOptions;
-use uniphys_types::{GroundedAsset, ServiceStage};
+use uniphys_types::{GroundedAsset, ServiceStage, VerifiedAsset};
 
 use crate::source::SourceFile;
 use crate::stage::{StageError, StageInput};
 
 /// The file `convert` and `ground` read from `decompose`'s output.
 pub const FACE_PARTS_FILE: &str = "face_parts.json";
-/// The file `convert` reads from `ground`'s output.
+/// The file `verify` and `convert` read from `ground`'s output.
 pub const GROUNDED_FILE: &str = "grounded.json";
+/// The file `convert` reads from `verify`'s output.
+pub const VERIFIED_FILE: &str = "verified.json";
 
 /// What a stage running the in-process pipeline starts from: the submitted file (after checking
 /// that `ingest` read it) and `options` with the parts of an upstream `decompose`, when it split
@@ -43,6 +45,19 @@ pub(crate) fn stored_grounding(input: &StageInput) -> Result<Option<GroundedAsse
         .checked()
         .map(Some)
         .map_err(|e| StageError::Permanent(format!("{GROUNDED_FILE} of stage ground: {e}")))
+}
+
+/// What an upstream `verify` stage decided, if the job has one; checked as it is read.
+pub(crate) fn stored_verification(input: &StageInput) -> Result<Option<VerifiedAsset>, StageError> {
+    let Some(verified) =
+        read_upstream::<VerifiedAsset>(input, ServiceStage::Verify, VERIFIED_FILE)?
+    else {
+        return Ok(None);
+    };
+    verified
+        .checked()
+        .map(Some)
+        .map_err(|e| StageError::Permanent(format!("{VERIFIED_FILE} of stage verify: {e}")))
 }
 
 /// The JSON file `file` of upstream stage `stage`, if the job has that stage and it wrote it.

@@ -1,6 +1,6 @@
 //! The pipeline's stages as stages: `ground` alone calls the models and stores what they
-//! decided; a `convert` that fails is retried alone and asks them nothing; a `ground` that fails
-//! is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
+//! decided, `verify` stores what it checked and corrected; a `verify` or a `convert` that fails
+//! is retried alone and asks the models nothing; a `ground` that fails is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
 //! server answering with recorded answers, both on loopback, counting the requests they get.
 
 use std::path::Path;
@@ -10,10 +10,14 @@ use std::time::Duration;
 use serde_json::Value;
 use uniphys_pipeline::{LearnedOptions, RunOptions};
 use uniphys_queue::{JobDetail, JobState, OutputManifest};
-use uniphys_types::{GroundSummary, GroundedAsset, ServiceStage};
+use uniphys_types::{
+    AssetRecord, GroundSummary, GroundedAsset, ServiceStage, VerifiedAsset, VerifySummary,
+};
 use uniphys_uniphysgen::test_server::TestServer;
 use uniphys_uniphysgen::{ClientConfig, PointOptions};
-use uniphys_worker::stages::{ConvertStage, DecomposeStage, GROUNDED_FILE};
+use uniphys_worker::stages::{
+    ConvertStage, DecomposeStage, GROUNDED_FILE, GroundStage, VERIFIED_FILE, VerifyStage,
+};
 use uniphys_worker::{OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry};
 
 use crate::fixture;
@@ -57,13 +61,27 @@ fn assert_retried_alone(job: &JobDetail, retried: &[ServiceStage]) {
     }
 }
 
-/// The manifest of `job`'s `ground` run and its summary.
-fn ground_output(job: &JobDetail) -> (OutputManifest, GroundSummary) {
-    let ground = job.stage("ground").expect("ground");
-    let manifest = OutputManifest::from_value(ground.output_manifest.as_ref().expect("manifest"))
-        .expect("shape");
-    let summary = serde_json::from_value(manifest.summary.clone()).expect("a ground summary");
+/// The manifest of `job`'s run of `stage` and its summary.
+fn stage_output<T: serde::de::DeserializeOwned>(
+    job: &JobDetail,
+    stage: ServiceStage,
+) -> (OutputManifest, T) {
+    let run = job.stage(stage.name()).expect("the stage ran");
+    let manifest =
+        OutputManifest::from_value(run.output_manifest.as_ref().expect("manifest")).expect("shape");
+    let summary = serde_json::from_value(manifest.summary.clone()).expect("the stage's summary");
     (manifest, summary)
+}
+
+/// The JSON file `file` of `manifest`, read from the fixture's artifact store.
+async fn stored<T: serde::de::DeserializeOwned>(
+    f: &crate::Fixture,
+    manifest: &OutputManifest,
+    file: &str,
+) -> T {
+    let entry = manifest.artifact(file).expect("the file is stored");
+    serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("stored bytes"))
+        .expect("the file's type")
 }
 
 fn fails_once<S: Stage>(stage: S) -> FailsOnce<S> {
@@ -99,20 +117,23 @@ fn mug() -> std::path::PathBuf {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
-async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
+async fn verify_and_convert_retried_after_failures_ask_the_model_nothing() {
     let server = TestServer::start().expect("test server");
     let f = fixture().await;
     let convert = convert_with_model(server.url());
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
+        .with(fails_once(VerifyStage {
+            options: convert.options.clone(),
+        }))
         .with(fails_once(convert));
     let job = f
         .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    assert_retried_alone(&job, &[ServiceStage::Convert]);
+    assert_retried_alone(&job, &[ServiceStage::Verify, ServiceStage::Convert]);
     // Only `ground` asked the model: one request per task, none from either attempt of
-    // `convert`.
-    let (manifest, summary) = ground_output(&job);
+    // `verify` or `convert`.
+    let (manifest, summary): (_, GroundSummary) = stage_output(&job, ServiceStage::Ground);
     assert!(
         summary
             .grounded_by
@@ -120,12 +141,7 @@ async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
             .any(|p| p.starts_with("uniphysgen")),
         "{summary:?}"
     );
-    let entry = manifest
-        .artifact(GROUNDED_FILE)
-        .expect("the grounding is stored");
-    let grounded: GroundedAsset =
-        serde_json::from_slice(&f.artifacts.get(&entry.key).await.expect("grounding"))
-            .expect("a grounded asset");
+    let grounded: GroundedAsset = stored(&f, &manifest, GROUNDED_FILE).await;
     assert_eq!(grounded.record.parts.len(), summary.parts);
     let alone = predict_requests_of_one_grounding(&server).await;
     assert_eq!(
@@ -133,17 +149,19 @@ async fn a_convert_retried_after_a_failure_asks_the_model_nothing() {
         2 * alone,
         "the job asked as much as one grounding (measured again after it)"
     );
-    // The exported record is the stored grounding, verified: the model's values are in it.
-    let convert = job.stage("convert").expect("convert");
-    let manifest = OutputManifest::from_value(convert.output_manifest.as_ref().expect("manifest"))
-        .expect("shape");
-    let record = manifest.artifact("record.json").expect("record");
-    let record: Value =
-        serde_json::from_slice(&f.artifacts.get(&record.key).await.expect("record")).expect("json");
+    // `verify` stored what it checked, and the exported record is that verification's record:
+    // the model's values are in it.
+    let (manifest, summary): (_, VerifySummary) = stage_output(&job, ServiceStage::Verify);
+    let verified: VerifiedAsset = stored(&f, &manifest, VERIFIED_FILE).await;
+    assert_eq!(summary.joints_swept, verified.joints_swept);
+    assert!(summary.joints_swept > 0, "{summary:?}");
     assert_eq!(
-        record["object"]["category"]["value"],
-        grounded.record.object.category.value.as_str()
+        verified.record.object.category.value,
+        grounded.record.object.category.value
     );
+    let (manifest, _): (_, Value) = stage_output(&job, ServiceStage::Convert);
+    let record: AssetRecord = stored(&f, &manifest, "record.json").await;
+    assert_eq!(record, verified.record);
 }
 
 /// Grounds the mug once in process with the model at `server`, returning the requests it took.
@@ -164,7 +182,7 @@ async fn a_ground_stage_that_fails_transiently_is_retried_alone() {
     let f = fixture().await;
     let convert = ConvertStage::default();
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone()).with(
-        fails_once(uniphys_worker::stages::GroundStage {
+        fails_once(GroundStage {
             options: convert.options,
         }),
     );
@@ -242,7 +260,7 @@ async fn ground_and_convert_each_lost_once_ask_the_lvlm_once() {
         },
     };
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
-        .with(fails_once(uniphys_worker::stages::GroundStage {
+        .with(fails_once(GroundStage {
             options: convert.options.clone(),
         }))
         .with(fails_once(convert));
@@ -252,9 +270,10 @@ async fn ground_and_convert_each_lost_once_ask_the_lvlm_once() {
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
     assert_retried_alone(&job, &[ServiceStage::Ground, ServiceStage::Convert]);
     // One properties and one articulation request, from `ground`'s first attempt: its retry
-    // reads the answers from the cache and writes the same grounding, `convert` asks nothing.
+    // reads the answers from the cache and writes the same grounding; `verify` and `convert`
+    // ask nothing.
     assert_eq!(server.requests().len(), 2, "{:?}", server.requests().len());
-    let (_, summary) = ground_output(&job);
+    let (_, summary): (_, GroundSummary) = stage_output(&job, ServiceStage::Ground);
     assert!(
         summary.grounded_by.iter().any(|p| p.starts_with("lvlm:")),
         "{summary:?}"

@@ -46,12 +46,13 @@ async fn fixture() -> Fixture {
 }
 
 /// One slot for each stage of the pipeline.
-const PIPELINE_SLOTS: &[(&str, usize)] = &[
-    ("ingest", 1),
-    ("decompose", 1),
-    ("ground", 1),
-    ("convert", 1),
-];
+/// One slot for every stage of the pipeline.
+fn pipeline_slots() -> Vec<(&'static str, usize)> {
+    uniphys_types::ServiceStage::ALL
+        .iter()
+        .map(|stage| (stage.name(), 1))
+        .collect()
+}
 
 fn config(stages: &[(&str, usize)]) -> WorkerConfig {
     WorkerConfig {
@@ -136,7 +137,7 @@ impl Fixture {
         within: Duration,
     ) -> uniphys_queue::JobDetail {
         let sub = self.submit_file(path, &pipeline_job_spec()).await;
-        let (shutdown, handle) = self.start(registry, config(PIPELINE_SLOTS));
+        let (shutdown, handle) = self.start(registry, config(&pipeline_slots()));
         self.wait_finished(&[sub.job_id], within).await;
         shutdown.cancel();
         handle.await.expect("worker stops");
