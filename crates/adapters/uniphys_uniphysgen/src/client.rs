@@ -52,7 +52,7 @@ impl Default for ClientConfig {
 }
 
 /// The answers of one model for the parts asked about.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PartAnswers {
     /// Checkpoint that answered.
     pub model: String,

@@ -3,9 +3,11 @@
 //! contract (`proto/uniphysgen/v1`) and a blocking client for it, restoration of the answers to
 //! the object frame and SI units, and the reference's npz layout.
 //!
-//! Flow: [`prepare_points`] → [`model_inputs`] → [`UniPhysGenClient`] → `restore_*`.
+//! Flow: [`prepare_points`] → [`model_inputs`] → [`UniPhysGenClient`] ([`ModelAnswers`]: what
+//! it answered, kept) → `restore_*`.
 //! Everything before the client is CPU-only and deterministic for a given seed.
 
+mod answers;
 mod client;
 pub mod contract;
 mod crc32;
@@ -20,6 +22,7 @@ mod slots;
 pub mod test_server;
 mod zip;
 
+pub use answers::{MODEL_ANSWERS_VERSION, ModelAnswers};
 pub use client::{ClientConfig, PartAnswers, UniPhysGenClient};
 pub use contract::{PredictRequest, PredictResponse, Task};
 pub use error::{UniPhysGenError, UniPhysGenResult};

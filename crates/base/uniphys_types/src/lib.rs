@@ -38,7 +38,7 @@ pub use provenance::{Estimate, Provenance};
 pub use report::{CheckOutcome, CheckResult, ReportSection, VerificationReport};
 pub use service_stage::ServiceStage;
 pub use summary::{
-    ConvertSummary, DatasetFacts, DecomposeStageSummary, GroundSummary, IngestSummary,
-    VerifySummary,
+    ConvertSummary, DatasetFacts, DecomposeStageSummary, GroundSummary, InferSummary,
+    IngestSummary, VerifySummary,
 };
 pub use verified::{VERIFIED_VERSION, VerifiedAsset};

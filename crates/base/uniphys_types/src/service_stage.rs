@@ -5,8 +5,8 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-/// A stage of the job queue's pipeline: `ingest` → `decompose` → `ground` → `verify` →
-/// `convert`.
+/// A stage of the job queue's pipeline: `ingest` → `decompose` → `infer` → `ground` → `verify`
+/// → `convert`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ServiceStage {
@@ -14,8 +14,12 @@ pub enum ServiceStage {
     Ingest,
     /// Splits a mesh given as one piece into parts.
     Decompose,
-    /// Grounds the parts: materials, properties, masses and joints, by the built-in grounder and,
-    /// when configured, a UniPhysGen server and an LVLM (the only stage that calls them).
+    /// Asks a UniPhysGen model server about the parts and the object, when one is configured (the
+    /// only stage that calls it; the GPU-bound one).
+    Infer,
+    /// Grounds the parts: materials, properties, masses and joints, by the built-in grounder, then
+    /// the UniPhysGen server's answers `infer` stored and, when configured, an LVLM (the only
+    /// stage that calls it).
     Ground,
     /// Verifies the grounded asset: intrinsic checks, joints swept (and corrected when they fail
     /// their sweep), the dynamic check.
@@ -27,9 +31,10 @@ pub enum ServiceStage {
 
 impl ServiceStage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Ingest,
         Self::Decompose,
+        Self::Infer,
         Self::Ground,
         Self::Verify,
         Self::Convert,
@@ -41,6 +46,7 @@ impl ServiceStage {
         match self {
             Self::Ingest => "ingest",
             Self::Decompose => "decompose",
+            Self::Infer => "infer",
             Self::Ground => "ground",
             Self::Verify => "verify",
             Self::Convert => "convert",

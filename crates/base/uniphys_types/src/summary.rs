@@ -1,7 +1,8 @@
 //! What the service's stages report of one asset (their manifests' summaries), written by the
 //! worker and read back by the API's batch statistics and the worker's own tests: one type per
 //! stage on both sides. `ingest` reports the file it read ([`IngestSummary`]), `decompose`
-//! whether and how it split the mesh ([`DecomposeStageSummary`]), `ground` what grounding decided
+//! whether and how it split the mesh ([`DecomposeStageSummary`]), `infer` whether a model answered
+//! ([`InferSummary`]), `ground` what grounding decided
 //! ([`GroundSummary`]), `verify` what its checks found ([`VerifySummary`]), `convert` the finished
 //! asset ([`ConvertSummary`]).
 
@@ -72,6 +73,17 @@ pub struct DecomposeStageSummary {
     /// Seconds the decomposition took, when it ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub secs: Option<f64>,
+}
+
+/// The `infer` stage's summary of one asset: which UniPhysGen model answered, if one was asked.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct InferSummary {
+    /// The object-level checkpoint that answered; `None` when no server is configured (the
+    /// stage stored nothing, and `ground` grounds without the model).
+    pub model: Option<String>,
+    /// Parts the model answered for.
+    pub parts: usize,
 }
 
 /// The `ground` stage's summary of one asset: what the grounders decided, before verification.

@@ -1,12 +1,12 @@
 //! The pipeline as queue stages against the pipeline in one `convert`, in the same run: N assets
 //! (the example assets, each moved a little so every file differs) through
-//! `ingest → decompose → ground → verify → convert` and through `ingest → decompose → convert`
-//! (with no `ground` or `verify` upstream, `convert` grounds and verifies itself), on one worker
-//! with one slot per stage, grounding with the rule-based UniPhysGen test server on loopback. A
-//! share of the `convert` runs fails at the end of its first attempt, as a worker killed
-//! mid-stage would; the queue retries it. Prints wall time and the model requests each graph
-//! sent. The stage graph has two slots more (its `ground` and `verify`), so a worker runs stages
-//! of different assets at once.
+//! `ingest → decompose → infer → ground → verify → convert` and through
+//! `ingest → decompose → convert` (with no `infer`, `ground` or `verify` upstream, `convert` asks
+//! the model, grounds and verifies itself), on one worker with one slot per stage, grounding with
+//! the rule-based UniPhysGen test server on loopback. A share of the `convert` runs fails at the
+//! end of its first attempt, as a worker killed mid-stage would; the queue retries it. Prints wall time and the model requests each graph
+//! sent. The stage graph has three slots more (its `infer`, `ground` and `verify`), so a worker
+//! runs stages of different assets at once.
 //!
 //! `cargo bench -p uniphys_worker --bench stage_pipeline -- [ASSETS] [DATABASE_URL]`
 //! (default 100 assets on a temporary SQLite file, the embedded default; with a PostgreSQL URL it
@@ -76,7 +76,8 @@ impl Stage for FlakyConvert {
     }
 }
 
-/// The graph without `ground` and `verify` stages: `convert` grounds and verifies itself.
+/// The graph without `infer`, `ground` and `verify` stages: `convert` asks the model, grounds and
+/// verifies itself.
 fn convert_only_spec() -> JobSpec {
     use ServiceStage::{Convert, Decompose, Ingest};
     JobSpec::new(vec![
@@ -284,7 +285,7 @@ async fn main() {
             let graph = if label == "convert" {
                 "ingest → decompose → convert (today)"
             } else {
-                "ingest → decompose → ground → verify → convert"
+                "ingest → decompose → infer → ground → verify → convert"
             };
             let (wall_ratio, request_ratio) = baseline.as_ref().map_or((1.0, 1.0), |b| {
                 (

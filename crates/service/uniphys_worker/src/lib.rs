@@ -11,8 +11,8 @@
 //!   releases the rest; a fresh worker id per process start.
 //!
 //! Map: [`Stage`] (what a stage is) · [`StageRegistry`] and [`pipeline_job_spec`] (which stages
-//! exist, the graph an asset gets) · [`stages`] (ingest, decompose, ground, verify, convert,
-//! stand-ins) · [`FleetRateLimiter`] (the LVLM client's rate limit over the fleet's Redis bucket)
+//! exist, the graph an asset gets) · [`stages`] (ingest, decompose, infer, ground, verify,
+//! convert, stand-ins) · [`FleetRateLimiter`] (the LVLM client's rate limit over the fleet's Redis bucket)
 //! · [`StoreAnswerCache`] (its answers in the object store) · [`Worker`] (claim loops, reaper,
 //! shutdown) · [`WorkerConfig`].
 

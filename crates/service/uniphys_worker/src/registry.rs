@@ -9,7 +9,7 @@ use uniphys_types::ServiceStage;
 
 use crate::stage::Stage;
 use crate::stages::{
-    ConvertStage, DecomposeStage, GroundStage, IngestStage, StandInStage, VerifyStage,
+    ConvertStage, DecomposeStage, GroundStage, InferStage, IngestStage, StandInStage, VerifyStage,
 };
 
 /// Stages by name.
@@ -25,16 +25,17 @@ impl std::fmt::Debug for StageRegistry {
 }
 
 impl StageRegistry {
-    /// The real pipeline with default options: `ingest`, `decompose` (auto), `ground`, `verify`
-    /// and `convert`.
+    /// The real pipeline with default options: `ingest`, `decompose` (auto), `infer`, `ground`,
+    /// `verify` and `convert`.
     #[must_use]
     pub fn pipeline() -> Self {
         Self::pipeline_with(DecomposeStage::default(), ConvertStage::default())
     }
 
     /// The real pipeline with the given `decompose` and `convert` stages (their options: the
-    /// decomposition mode, an LVLM or a UniPhysGen server, verification parameters). `ground`
-    /// and `verify` run with `convert`'s options, and `ground` alone calls the models;
+    /// decomposition mode, an LVLM or a UniPhysGen server, verification parameters). `infer`,
+    /// `ground` and `verify` run with `convert`'s options; `infer` alone calls the UniPhysGen
+    /// server and `ground` alone the LVLM;
     /// `convert`'s reader options are used by `ingest` and `decompose` too, so every stage sees
     /// the same faces.
     #[must_use]
@@ -47,6 +48,9 @@ impl StageRegistry {
             .with(DecomposeStage {
                 ingest,
                 ..decompose
+            })
+            .with(InferStage {
+                options: convert.options.clone(),
             })
             .with(GroundStage {
                 options: convert.options.clone(),
@@ -88,8 +92,8 @@ impl StageRegistry {
 /// Attempts of a pipeline stage before it is dead-lettered.
 const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 
-/// The stage graph every submitted asset gets: `ingest` → `decompose` → `ground` → `verify` →
-/// `convert` (each later stage also reads the outputs of the earlier ones, so it depends on all
+/// The stage graph every submitted asset gets: `ingest` → `decompose` → `infer` → `ground` →
+/// `verify` → `convert` (each later stage also reads the outputs of the earlier ones, so it depends on all
 /// of them).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
@@ -122,7 +126,14 @@ mod tests {
         }
         assert_eq!(
             registry.names(),
-            ["convert", "decompose", "ground", "ingest", "verify"]
+            [
+                "convert",
+                "decompose",
+                "ground",
+                "infer",
+                "ingest",
+                "verify"
+            ]
         );
     }
 
@@ -132,7 +143,14 @@ mod tests {
         let names: Vec<&str> = spec.stages.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(
             names,
-            ["ingest", "decompose", "ground", "verify", "convert"]
+            [
+                "ingest",
+                "decompose",
+                "infer",
+                "ground",
+                "verify",
+                "convert"
+            ]
         );
         for (i, stage) in spec.stages.iter().enumerate() {
             let before: Vec<&str> = names[..i].to_vec();

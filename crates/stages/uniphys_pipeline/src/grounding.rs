@@ -1,6 +1,7 @@
-//! The `prepare`, `colliders` and `ground` stages of a run: each part's solid and walls, its
-//! convex hulls, then its material, properties and mass and the articulation (the built-in
-//! grounder, then a UniPhysGen server's or an LVLM's answers when configured). What grounding
+//! The `infer`, `prepare`, `colliders` and `ground` stages of a run: a UniPhysGen server's answers
+//! when one is configured, each part's solid and walls, its convex hulls, then its material,
+//! properties and mass and the articulation (the built-in grounder, then the UniPhysGen server's
+//! answers and an LVLM's when configured). What grounding
 //! decided, with the colliders, is a [`GroundedAsset`], which the queue stores so that
 //! verification and export never ask the models again nor decompose the parts into hulls again.
 
@@ -18,9 +19,10 @@ use uniphys_types::{
     AssetRecord, Estimate, GroundedAsset, Hull, PartId, PartMass, PartRecord, Provenance,
     SCHEMA_VERSION,
 };
+use uniphys_uniphysgen::ModelAnswers;
 
 use crate::input::Input;
-use crate::learned::ground_learned;
+use crate::learned::{apply_answers, infer_answers};
 use crate::lvlm::ground_lvlm;
 use crate::mass_calibration::calibrate_walls;
 use crate::run::{Clock, RunOptions};
@@ -119,12 +121,13 @@ pub(crate) fn colliders(
     })
 }
 
-/// The `ground` stage: the built-in grounder, then the UniPhysGen server's and the LVLM's
-/// answers when the options configure them.
+/// The `ground` stage: the built-in grounder, then the UniPhysGen server's `answers` (the
+/// `infer` stage's) and the LVLM's answers when the options configure one.
 pub(crate) fn ground(
     input: &Input,
     prepared: &[Prepared],
     colliders: &[Vec<TriMesh>],
+    answers: Option<&ModelAnswers>,
     options: &RunOptions,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<GroundedAsset> {
@@ -138,13 +141,13 @@ pub(crate) fn ground(
             prepared,
             colliders,
         )?;
-        if let Some(learned) = &options.learned {
-            notes.extend(ground_learned(
+        if let Some(answers) = answers {
+            notes.extend(apply_answers(
                 asset,
                 prepared,
                 colliders,
                 &mut record,
-                learned,
+                answers,
             )?);
         }
         let mut accounting = None;
@@ -166,6 +169,31 @@ pub(crate) fn ground(
             .map(|part| part.iter().map(hull_of).collect())
             .collect();
         Ok((GroundedAsset::new(record, notes, hulls), summary))
+    })
+}
+
+/// The `infer` stage: the UniPhysGen server's answers about `input`'s parts and object, when the
+/// options configure a server and hold no stored answers (`RunOptions::inferred`, checked here
+/// against the parts).
+pub(crate) fn infer(
+    input: &Input,
+    options: &RunOptions,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<Option<ModelAnswers>> {
+    if let Some(stored) = &options.inferred {
+        return Ok(Some(stored.clone().checked(input.asset.parts.len())?));
+    }
+    let Some(learned) = &options.learned else {
+        return Ok(None);
+    };
+    clock.stage(Stage::Infer, || {
+        let answers = infer_answers(&input.asset, &input.name, learned)?;
+        let summary = format!(
+            "the UniPhysGen model {:?} answered for {} parts",
+            answers.object_model,
+            answers.physics.parts.len()
+        );
+        Ok((Some(answers), summary))
     })
 }
 

@@ -1,6 +1,8 @@
 //! The learned grounding path: a UniPhysGen model server predicts part physics, part motion and
-//! object-level properties; its answers replace the built-in grounder's values in the record,
-//! so verification and export work unchanged and every value names the model.
+//! object-level properties (`infer_answers`: the `infer` stage, whose [`ModelAnswers`] the queue
+//! stores); its answers replace the built-in grounder's values in the record (`apply_answers`, in
+//! the `ground` stage), so verification and export work unchanged and every value names the
+//! model.
 //!
 //! The articulation tree (which part hangs from which) still comes from the input or the
 //! geometric heuristic: the model predicts how a part moves, not what it is attached to.
@@ -10,7 +12,8 @@ use uniphys_ground::{PartInput, RigidMass, articulate};
 use uniphys_types::{AssetRecord, Joint, JointKind};
 use uniphys_uniphysgen::restore::{restore_motion, restore_object, restore_physics};
 use uniphys_uniphysgen::{
-    ClientConfig, PointOptions, Task, UniPhysGenClient, model_inputs, prepare_points,
+    ClientConfig, MODEL_ANSWERS_VERSION, ModelAnswers, PointOptions, Task, UniPhysGenClient,
+    model_inputs, prepare_points,
 };
 
 use crate::PipelineResult;
@@ -40,22 +43,46 @@ impl Default for LearnedOptions {
     }
 }
 
+/// Asks the model server about `asset`'s parts and its object (`sample` names it): its answers,
+/// with the frame they are in.
+pub(crate) fn infer_answers(
+    asset: &MeshAsset,
+    sample: &str,
+    options: &LearnedOptions,
+) -> PipelineResult<ModelAnswers> {
+    let points = prepare_points(asset, &options.points)?;
+    let inputs = model_inputs(&points, options.num_bins)?;
+    let client = UniPhysGenClient::new(options.client.clone(), options.slots)?;
+    let physics = client.predict_parts(Task::Physics, sample, &inputs)?;
+    let motion = client.predict_parts(Task::Kinematics, sample, &inputs)?;
+    let (object_model, object) = client.predict_object(sample, &inputs)?;
+    Ok(ModelAnswers {
+        version: MODEL_ANSWERS_VERSION,
+        base_url: options.client.base_url.clone(),
+        frame: inputs.frame.to_json(),
+        part_centers_in_object_m: points
+            .part_centers_in_object_m
+            .iter()
+            .map(|c| c.to_array())
+            .collect(),
+        physics,
+        motion,
+        object_model,
+        object,
+    })
+}
+
 /// Replaces properties, joints and object name/category/mass in `record` with the model's
-/// answers. Returns notes for the report.
-pub(crate) fn ground_learned(
+/// `answers`. Returns notes for the report.
+pub(crate) fn apply_answers(
     asset: &MeshAsset,
     prepared: &[Prepared],
     colliders: &[Vec<TriMesh>],
     record: &mut AssetRecord,
-    options: &LearnedOptions,
+    answers: &ModelAnswers,
 ) -> PipelineResult<Vec<String>> {
-    let points = prepare_points(asset, &options.points)?;
-    let inputs = model_inputs(&points, options.num_bins)?;
-    let client = UniPhysGenClient::new(options.client.clone(), options.slots)?;
-    let sample = record.name.clone();
     let mut notes = Vec::new();
-
-    let physics = client.predict_parts(Task::Physics, &sample, &inputs)?;
+    let physics = &answers.physics;
     for (part, answer) in record.parts.iter_mut().zip(&physics.parts) {
         let Some(values) = &answer.physical_properties else {
             notes.push(format!(
@@ -67,16 +94,17 @@ pub(crate) fn ground_learned(
         part.replace_properties(restore_physics(&answer.id, values, &physics.model)?);
     }
 
-    let motion = client.predict_parts(Task::Kinematics, &sample, &inputs)?;
+    let motion = &answers.motion;
+    let frame = answers.coordinate_frame();
     let mut declared = Vec::with_capacity(record.joints.len());
     for joint in &record.joints {
         let i = joint.child.0 as usize;
         let (Some(answer), Some(center)) =
-            (motion.parts.get(i), points.part_centers_in_object_m.get(i))
+            (motion.parts.get(i), answers.part_centers_in_object_m.get(i))
         else {
             continue;
         };
-        let restored = restore_motion(answer, &inputs.frame, *center, &motion.model)?;
+        let restored = restore_motion(answer, &frame, DVec3::from_array(*center), &motion.model)?;
         declared.push(match restored {
             Some(m) => Joint {
                 name: String::new(),
@@ -137,15 +165,15 @@ pub(crate) fn ground_learned(
     record.joints = articulation.joints;
     notes.extend(articulation.notes);
 
-    let (model, object) = client.predict_object(&sample, &inputs)?;
-    let object = restore_object(&object, &model)?;
+    let model = &answers.object_model;
+    let object = restore_object(&answers.object, model)?;
     record.object.name = object.name;
     record.object.category = object.category;
     record.object.mass_kg = object.mass_kg;
     record.validate()?;
     notes.push(format!(
         "grounded by the UniPhysGen model {model:?} at {}",
-        options.client.base_url
+        answers.base_url
     ));
     Ok(notes)
 }

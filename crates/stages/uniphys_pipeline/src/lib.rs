@@ -1,12 +1,15 @@
 //! The in-process UniPhys pipeline for one asset, needing no servers: ingest (with `--unit
 //! auto`, a real size for inputs in normalised units: `real_scale.rs`; the object put to rest on
-//! the ground: `input`), prepare (mass properties), colliders (convex decomposition), ground
-//! (built-in grounder, optionally a UniPhysGen model server or an LVLM: `grounding`), verify
+//! the ground: `input`), infer (a UniPhysGen model server's answers, when one is configured),
+//! prepare (mass properties), colliders (convex decomposition), ground (built-in grounder, then
+//! the model's answers or an LVLM's when configured: `grounding`), verify
 //! (intrinsic checks, articulation sweeps with correction) and export (`finish`).
-//! The job-queue workers run the same stage functions: the `ground` stage calls [`ground_asset`]
-//! and stores what it returns, `verify` calls [`verify_asset`] with it as `RunOptions::grounded`
-//! (no model is asked again) and stores what that returns, `convert` calls [`run`] with both
-//! (`RunOptions::verified`: only export runs); `uniphys run` calls [`run`].
+//! The job-queue workers run the same stage functions: the `infer` stage calls [`infer_asset`]
+//! and stores the UniPhysGen server's answers, `ground` calls [`ground_asset`] with them as
+//! `RunOptions::inferred` (the server is not asked again) and stores what it returns, `verify`
+//! calls [`verify_asset`] with that as `RunOptions::grounded` (no model is asked again) and
+//! stores what it returns, `convert` calls [`run`] with both (`RunOptions::verified`: only export
+//! runs); `uniphys run` calls [`run`].
 
 mod cavities;
 mod error;
@@ -27,5 +30,6 @@ pub use input::asset_name;
 pub use learned::LearnedOptions;
 pub use lvlm::LvlmOptions;
 pub use progress::{NoProgress, Progress, Stage};
-pub use run::{RunOptions, RunOutput, ground_asset, run, verify_asset};
+pub use run::{RunOptions, RunOutput, ground_asset, infer_asset, run, verify_asset};
+pub use uniphys_uniphysgen::ModelAnswers;
 pub use verify::VerifyOptions;

@@ -5,11 +5,14 @@ use std::time::Duration;
 pub enum Stage {
     /// Load and validate the input.
     Ingest,
+    /// A UniPhysGen model server's answers (only when one is configured).
+    Infer,
     /// Frame normalisation and per-part mass properties.
     Prepare,
     /// Convex decomposition of every part.
     Colliders,
-    /// Materials, properties and articulation (built-in grounder).
+    /// Materials, properties and articulation (built-in grounder, then the model's and an LVLM's
+    /// answers).
     Ground,
     /// Intrinsic checks and articulation sweeps, with correction of failed joints.
     Verify,
@@ -19,8 +22,9 @@ pub enum Stage {
 
 impl Stage {
     /// All stages in run order.
-    pub const ALL: [Stage; 6] = [
+    pub const ALL: [Stage; 7] = [
         Stage::Ingest,
+        Stage::Infer,
         Stage::Prepare,
         Stage::Colliders,
         Stage::Ground,
@@ -33,6 +37,7 @@ impl Stage {
     pub fn name(self) -> &'static str {
         match self {
             Stage::Ingest => "ingest",
+            Stage::Infer => "infer",
             Stage::Prepare => "prepare",
             Stage::Ground => "ground",
             Stage::Colliders => "colliders",

@@ -1,8 +1,10 @@
-//! `run`: the whole pipeline on one asset, in process; [`ground_asset`]: its stages up to
-//! grounding, and [`verify_asset`]: up to verification, whose results a later `run` takes instead
-//! of grounding or verifying again (the queue's `ground` and `verify` stages, then `convert`).
+//! `run`: the whole pipeline on one asset, in process; [`infer_asset`]: its stages up to the
+//! UniPhysGen server's answers, [`ground_asset`]: up to grounding, and [`verify_asset`]: up to
+//! verification, whose results a later `run` takes instead of asking, grounding or verifying
+//! again (the queue's `infer`, `ground` and `verify` stages, then `convert`).
 //!
-//! Stages: ingest (`input`), prepare (mass properties), colliders (convex decomposition), ground
+//! Stages: ingest (`input`), infer (a UniPhysGen server's answers, when one is configured;
+//! `grounding`), prepare (mass properties), colliders (convex decomposition), ground
 //! (materials, properties, articulation chosen by sweeps; `grounding`), verify (intrinsic levels
 //! 0-4, articulation sweeps with correction) and export (`finish`).
 
@@ -14,9 +16,10 @@ use uniphys_export::Artifact;
 use uniphys_geometry::{ConvexParams, TriMesh};
 use uniphys_mesh_io::IngestOptions;
 use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport, VerifiedAsset};
+use uniphys_uniphysgen::ModelAnswers;
 
 use crate::finish::{export_verified, verify_grounded};
-use crate::grounding::{colliders, ground, prepare, stored_colliders, stored_grounding};
+use crate::grounding::{colliders, ground, infer, prepare, stored_colliders, stored_grounding};
 use crate::input::{Input, read_input};
 use crate::learned::LearnedOptions;
 use crate::lvlm::LvlmOptions;
@@ -36,6 +39,10 @@ pub struct RunOptions {
     pub touching_fraction: f64,
     /// Ground with a UniPhysGen model server instead of the built-in grounder's estimates.
     pub learned: Option<LearnedOptions>,
+    /// What an earlier run of the `infer` stage received from a UniPhysGen server
+    /// ([`infer_asset`]; the queue's `infer` stage): grounding applies these answers instead of
+    /// asking the server (`learned` is then not asked).
+    pub inferred: Option<ModelAnswers>,
     /// Ground with an LVLM (properties, motion graph, joints chosen among candidates) after the
     /// built-in grounder; its values replace the estimates.
     pub lvlm: Option<LvlmOptions>,
@@ -75,6 +82,7 @@ impl Default for RunOptions {
             convex: ConvexParams::default(),
             touching_fraction: 0.005,
             learned: None,
+            inferred: None,
             lvlm: None,
             verify: VerifyOptions::default(),
             decompose: None,
@@ -164,9 +172,34 @@ pub fn ground_asset(
 ) -> PipelineResult<GroundedAsset> {
     let mut clock = Clock::new(progress);
     let input = read_input(path, options, &mut clock)?;
+    let answers = infer(&input, options, &mut clock)?;
     let prepared = prepare(&input, options, &mut clock)?;
     let colliders = colliders(&input, options, &mut clock)?;
-    ground(&input, &prepared, &colliders, options, &mut clock)
+    ground(
+        &input,
+        &prepared,
+        &colliders,
+        answers.as_ref(),
+        options,
+        &mut clock,
+    )
+}
+
+/// Runs ingest and infer on the asset at `path` and returns the UniPhysGen server's answers, for
+/// a later [`ground_asset`] or [`run`] with `options.inferred`; `None` when no server is
+/// configured (`options.learned`; `options.inferred` itself is ignored).
+pub fn infer_asset(
+    path: &Path,
+    options: &RunOptions,
+    progress: &dyn Progress,
+) -> PipelineResult<Option<ModelAnswers>> {
+    let mut clock = Clock::new(progress);
+    let input = read_input(path, options, &mut clock)?;
+    let asked = RunOptions {
+        inferred: None,
+        ..options.clone()
+    };
+    infer(&input, &asked, &mut clock)
 }
 
 /// Runs ingest and verify on the asset at `path` grounded as `options.grounded` says (or, without
@@ -196,9 +229,17 @@ fn grounded_input(
             (stored_colliders(&grounded)?, grounded)
         }
         None => {
+            let answers = infer(&input, options, clock)?;
             let prepared = prepare(&input, options, clock)?;
             let colliders = colliders(&input, options, clock)?;
-            let grounded = ground(&input, &prepared, &colliders, options, clock)?;
+            let grounded = ground(
+                &input,
+                &prepared,
+                &colliders,
+                answers.as_ref(),
+                options,
+                clock,
+            )?;
             (colliders, grounded)
         }
     };

@@ -4,7 +4,8 @@
 
 use uniphys_examples::{GlbFrame, example, write_glb};
 use uniphys_pipeline::{
-    LearnedOptions, NoProgress, PipelineError, RunOptions, Stage, ground_asset, run, verify_asset,
+    LearnedOptions, NoProgress, PipelineError, RunOptions, Stage, ground_asset, infer_asset, run,
+    verify_asset,
 };
 use uniphys_types::Provenance;
 use uniphys_uniphysgen::test_server::TestServer;
@@ -45,6 +46,11 @@ fn model_answers_replace_the_builtin_values_and_name_the_model() {
     let server = TestServer::start().expect("test server");
     let (_dir, path) = cabinet();
     let out = run(&path, &learned(server.url()), &NoProgress).expect("learned run");
+    assert_eq!(
+        out.timings[1].0,
+        Stage::Infer,
+        "the model is asked in its own stage"
+    );
     let is_model = |p: &Provenance| matches!(p, Provenance::Provider { name, .. } if name.starts_with("uniphysgen"));
     for part in &out.record.parts {
         assert!(
@@ -63,6 +69,57 @@ fn model_answers_replace_the_builtin_values_and_name_the_model() {
         "physics, kinematics and object requests"
     );
     assert!(out.artifacts.iter().any(|a| a.path == "model.urdf"));
+}
+
+// The queue's `infer` stage stores the model's answers; `ground` applies them without asking
+// again, and decides what grounding with the server would.
+#[test]
+fn stored_model_answers_ground_as_asking_the_model_does() {
+    let server = TestServer::start().expect("test server");
+    let (_dir, path) = cabinet();
+    let options = learned(server.url());
+    let asking = ground_asset(&path, &options, &NoProgress).expect("grounding");
+    let asked = server.predict_requests();
+    let answers = infer_asset(&path, &options, &NoProgress)
+        .expect("inference")
+        .expect("a server is configured");
+    assert_eq!(
+        server.predict_requests(),
+        2 * asked,
+        "infer asks what grounding asked"
+    );
+    assert_eq!(answers.physics.parts.len(), asking.record.parts.len());
+    let stored = serde_json::to_vec(&answers).expect("answers serialise");
+    let applying = RunOptions {
+        inferred: Some(serde_json::from_slice(&stored).expect("and read back")),
+        ..options.clone()
+    };
+    let grounded = ground_asset(&path, &applying, &NoProgress).expect("grounding from answers");
+    assert_eq!(
+        server.predict_requests(),
+        2 * asked,
+        "no request after infer"
+    );
+    assert_eq!(grounded, asking);
+    let none = infer_asset(&path, &RunOptions::default(), &NoProgress).expect("no server");
+    assert!(none.is_none());
+}
+
+#[test]
+fn stored_answers_for_other_parts_are_refused() {
+    let server = TestServer::start().expect("test server");
+    let (_dir, path) = cabinet();
+    let options = learned(server.url());
+    let mut answers = infer_asset(&path, &options, &NoProgress)
+        .expect("inference")
+        .expect("answers");
+    answers.physics.parts.pop();
+    let applying = RunOptions {
+        inferred: Some(answers),
+        ..options
+    };
+    let error = ground_asset(&path, &applying, &NoProgress).expect_err("a part without answers");
+    assert!(error.to_string().contains("the asset has"), "{error}");
 }
 
 // The queue's `ground` stage stores what grounding decided; `convert` verifies and exports it

@@ -169,7 +169,8 @@ fn a_worker_refuses_a_stage_it_does_not_run_naming_the_ones_it_does() {
     assert_eq!(output.status.code(), Some(2), "{output:?}");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("convrt") && stderr.contains("convert, decompose, ground, ingest, verify"),
+        stderr.contains("convrt")
+            && stderr.contains("convert, decompose, ground, infer, ingest, verify"),
         "{stderr}"
     );
 }

@@ -1,8 +1,9 @@
 //! `ground`: the pipeline's stages up to grounding (ingest, prepare, colliders, ground) on the
-//! submitted file, split into the parts of an upstream `decompose` when it split the input.
-//! The only stage that calls a UniPhysGen server or an LVLM; it writes what they and the built-in
-//! grounder decided (`grounded.json`, a [`GroundedAsset`]), which `convert` verifies and exports,
-//! so a retry of `convert` asks no model again.
+//! submitted file, split into the parts of an upstream `decompose` when it split the input, with
+//! the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
+//! configured server itself). The only stage that calls an LVLM; it writes what the grounders
+//! decided (`grounded.json`, a [`GroundedAsset`]), which `verify` checks and `convert` exports,
+//! so a retry of either asks no model again.
 
 use std::collections::BTreeSet;
 
@@ -14,7 +15,7 @@ use crate::outputs::{OutputWriter, summary_value};
 use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{GROUNDED_FILE, pipeline_start};
+use crate::stages::upstream::{GROUNDED_FILE, pipeline_start, stored_answers};
 
 /// The pipeline stages a `ground` run goes through.
 const GROUND_STAGES: [PipelineStage; 4] = [
@@ -37,7 +38,8 @@ impl Stage for GroundStage {
     }
 
     fn version(&self) -> u32 {
-        1
+        // 2: the UniPhysGen answers come from an upstream `infer` when the job has one.
+        2
     }
 
     fn run(
@@ -46,7 +48,8 @@ impl Stage for GroundStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        let (source, options) = pipeline_start(input, &self.options)?;
+        let (source, mut options) = pipeline_start(input, &self.options)?;
+        options.inferred = stored_answers(input)?;
         let grounded = ground_asset(
             source.path(),
             &options,

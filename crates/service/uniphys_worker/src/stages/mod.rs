@@ -3,6 +3,7 @@
 mod convert;
 mod decompose;
 mod ground;
+mod infer;
 mod ingest;
 mod relay;
 mod standin;
@@ -12,7 +13,8 @@ mod verify;
 pub use convert::ConvertStage;
 pub use decompose::DecomposeStage;
 pub use ground::GroundStage;
+pub use infer::InferStage;
 pub use ingest::IngestStage;
 pub use standin::{StandInStage, standin_output};
-pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE, VERIFIED_FILE};
+pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE, INFERRED_FILE, VERIFIED_FILE};
 pub use verify::VerifyStage;

@@ -1,7 +1,7 @@
 //! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map,
-//! `ground`'s grounding and `verify`'s verification.
+//! `infer`'s model answers, `ground`'s grounding and `verify`'s verification.
 
-use uniphys_pipeline::RunOptions;
+use uniphys_pipeline::{ModelAnswers, RunOptions};
 use uniphys_types::{GroundedAsset, ServiceStage, VerifiedAsset};
 
 use crate::source::SourceFile;
@@ -9,6 +9,8 @@ use crate::stage::{StageError, StageInput};
 
 /// The file `convert` and `ground` read from `decompose`'s output.
 pub const FACE_PARTS_FILE: &str = "face_parts.json";
+/// The file `ground` reads from `infer`'s output.
+pub const INFERRED_FILE: &str = "inferred.json";
 /// The file `verify` and `convert` read from `ground`'s output.
 pub const GROUNDED_FILE: &str = "grounded.json";
 /// The file `convert` reads from `verify`'s output.
@@ -45,6 +47,12 @@ pub(crate) fn stored_grounding(input: &StageInput) -> Result<Option<GroundedAsse
         .checked()
         .map(Some)
         .map_err(|e| StageError::Permanent(format!("{GROUNDED_FILE} of stage ground: {e}")))
+}
+
+/// The answers an upstream `infer` stage received, if the job has one and a server answered
+/// (checked against the parts when grounding applies them).
+pub(crate) fn stored_answers(input: &StageInput) -> Result<Option<ModelAnswers>, StageError> {
+    read_upstream(input, ServiceStage::Infer, INFERRED_FILE)
 }
 
 /// What an upstream `verify` stage decided, if the job has one; checked as it is read.

@@ -1,6 +1,7 @@
-//! The pipeline's stages as stages: `ground` alone calls the models and stores what they
-//! decided, `verify` stores what it checked and corrected; a `verify` or a `convert` that fails
-//! is retried alone and asks the models nothing; a `ground` that fails is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
+//! The pipeline's stages as stages: `infer` alone calls the UniPhysGen server and stores its
+//! answers, `ground` alone calls the LVLM and stores what the grounders decided, `verify` stores
+//! what it checked and corrected; a `ground`, `verify` or `convert` that fails is retried alone
+//! and asks the model server nothing; a `ground` that fails is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
 //! server answering with recorded answers, both on loopback, counting the requests they get.
 
 use std::path::Path;
@@ -8,15 +9,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use serde_json::Value;
-use uniphys_pipeline::{LearnedOptions, RunOptions};
+use uniphys_pipeline::{LearnedOptions, ModelAnswers, RunOptions};
 use uniphys_queue::{JobDetail, JobState, OutputManifest};
 use uniphys_types::{
-    AssetRecord, GroundSummary, GroundedAsset, ServiceStage, VerifiedAsset, VerifySummary,
+    AssetRecord, GroundSummary, GroundedAsset, InferSummary, ServiceStage, VerifiedAsset,
+    VerifySummary,
 };
 use uniphys_uniphysgen::test_server::TestServer;
 use uniphys_uniphysgen::{ClientConfig, PointOptions};
 use uniphys_worker::stages::{
-    ConvertStage, DecomposeStage, GROUNDED_FILE, GroundStage, VERIFIED_FILE, VerifyStage,
+    ConvertStage, DecomposeStage, GROUNDED_FILE, GroundStage, INFERRED_FILE, VERIFIED_FILE,
+    VerifyStage,
 };
 use uniphys_worker::{OutputWriter, Stage, StageControl, StageError, StageInput, StageRegistry};
 
@@ -117,11 +120,14 @@ fn mug() -> std::path::PathBuf {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
-async fn verify_and_convert_retried_after_failures_ask_the_model_nothing() {
+async fn stages_after_infer_retried_after_failures_ask_the_model_nothing() {
     let server = TestServer::start().expect("test server");
     let f = fixture().await;
     let convert = convert_with_model(server.url());
     let registry = StageRegistry::pipeline_with(DecomposeStage::default(), convert.clone())
+        .with(fails_once(GroundStage {
+            options: convert.options.clone(),
+        }))
         .with(fails_once(VerifyStage {
             options: convert.options.clone(),
         }))
@@ -130,9 +136,21 @@ async fn verify_and_convert_retried_after_failures_ask_the_model_nothing() {
         .run_pipeline_with(&mug(), registry, Duration::from_secs(600))
         .await;
     assert_eq!(job.state, JobState::Succeeded, "{:?}", job.stages);
-    assert_retried_alone(&job, &[ServiceStage::Verify, ServiceStage::Convert]);
-    // Only `ground` asked the model: one request per task, none from either attempt of
-    // `verify` or `convert`.
+    assert_retried_alone(
+        &job,
+        &[
+            ServiceStage::Ground,
+            ServiceStage::Verify,
+            ServiceStage::Convert,
+        ],
+    );
+    // `infer` stored the model's answers for every part.
+    let (manifest, summary): (_, InferSummary) = stage_output(&job, ServiceStage::Infer);
+    assert!(summary.model.is_some(), "{summary:?}");
+    let answers: ModelAnswers = stored(&f, &manifest, INFERRED_FILE).await;
+    assert_eq!(answers.physics.parts.len(), summary.parts);
+    // Only `infer` asked the model: one request per task, none from either attempt of `ground`,
+    // `verify` or `convert`; `ground` applied the stored answers.
     let (manifest, summary): (_, GroundSummary) = stage_output(&job, ServiceStage::Ground);
     assert!(
         summary

@@ -8,7 +8,9 @@ use anyhow::Context;
 use uniphys_decompose::DecomposeMode;
 use uniphys_hints::Hints;
 use uniphys_lvlm::RateLimiter;
+use uniphys_pipeline::LearnedOptions;
 use uniphys_storage::ArtifactStore;
+use uniphys_uniphysgen::ClientConfig as ModelClientConfig;
 use uniphys_vision::ClientConfig;
 use uniphys_worker::stages::{ConvertStage, DecomposeStage};
 use uniphys_worker::{FleetRateLimiter, StageRegistry, StageSlots, StoreAnswerCache, WorkerConfig};
@@ -104,7 +106,15 @@ pub struct WorkerArgs {
     /// instead of the built-in geometric features.
     #[arg(long, env = "UNIPHYS_PARTFIELD_URL")]
     pub partfield_url: Option<String>,
-    /// The LVLM `convert` grounds with, if any.
+    /// `infer` asks the UniPhysGen model server at this URL (e.g. http://gpu-node:8000) about
+    /// every asset's parts and object, and `ground` applies its answers; without it `infer`
+    /// stores nothing.
+    #[arg(long, env = "UNIPHYS_UNIPHYSGEN_URL")]
+    pub uniphysgen_url: Option<String>,
+    /// GPU slots this process may hold on the model server at once.
+    #[arg(long, env = "UNIPHYS_UNIPHYSGEN_SLOTS", default_value_t = 1)]
+    pub uniphysgen_slots: usize,
+    /// The LVLM `ground` grounds with, if any.
     #[command(flatten)]
     pub lvlm: LvlmArgs,
 }
@@ -153,6 +163,14 @@ impl WorkerArgs {
             _ => None,
         };
         let mut convert = ConvertStage::default();
+        convert.options.learned = self.uniphysgen_url.as_ref().map(|url| LearnedOptions {
+            client: ModelClientConfig {
+                base_url: url.clone(),
+                ..ModelClientConfig::default()
+            },
+            slots: self.uniphysgen_slots,
+            ..LearnedOptions::default()
+        });
         convert.options.lvlm = self.lvlm.options(fleet_limit)?;
         if let Some(lvlm) = &mut convert.options.lvlm
             && lvlm.cache_dir.is_none()

@@ -1,5 +1,5 @@
 //! One chaos run: N assets through stand-ins of the pipeline's stages (ingest → decompose →
-//! ground → verify → convert) on several `uniphys worker` processes, SIGKILLs at random,
+//! infer → ground → verify → convert) on several `uniphys worker` processes, SIGKILLs at random,
 //! optionally Redis stopped or PostgreSQL restarted midway; then every output is checked against
 //! its recipe.
 
@@ -15,7 +15,14 @@ use super::servers::{PgCluster, RedisServer};
 use super::workers::{WorkerEnv, WorkerProcess};
 
 /// The pipeline's stages, by name, in order.
-const STAGES: [&str; 5] = ["ingest", "decompose", "ground", "verify", "convert"];
+const STAGES: [&str; 6] = [
+    "ingest",
+    "decompose",
+    "infer",
+    "ground",
+    "verify",
+    "convert",
+];
 /// The files a `convert` stand-in writes besides its `out.txt`: the dataset entity.
 const ENTITY_FILES: [&str; 3] = ["object.json", "record.json", "report.json"];
 
