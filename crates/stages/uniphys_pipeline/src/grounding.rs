@@ -1,9 +1,9 @@
 //! The `infer`, `prepare`, `colliders` and `ground` stages of a run: a UniPhysGen server's answers
 //! when one is configured, each part's solid and walls, its convex hulls, then its material,
 //! properties and mass and the articulation (the built-in grounder, then the UniPhysGen server's
-//! answers and an LVLM's when configured). What grounding
-//! decided, with the colliders, is a [`GroundedAsset`], which the queue stores so that
-//! verification and export never ask the models again nor decompose the parts into hulls again.
+//! answers and an LVLM's when configured). What grounding decided, with the colliders, is a
+//! [`GroundedAsset`], which the queue stores so that verification and export never ask the models
+//! again nor decompose the parts into hulls again.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -38,15 +38,12 @@ fn stored_face_parts(input: &StageInput) -> Result<Option<Vec<u32>>, StageError>
 
 /// What an upstream `ground` stage decided, if the job has one; checked as it is read.
 pub(crate) fn stored_grounding(input: &StageInput) -> Result<Option<GroundedAsset>, StageError> {
-    let Some(grounded) =
-        read_upstream::<GroundedAsset>(input, ServiceStage::Ground, GROUNDED_FILE)?
-    else {
-        return Ok(None);
-    };
-    grounded
-        .checked()
-        .map(Some)
-        .map_err(|e| StageError::Permanent(format!("{GROUNDED_FILE} of stage ground: {e}")))
+    read_checked(
+        input,
+        ServiceStage::Ground,
+        GROUNDED_FILE,
+        GroundedAsset::checked,
+    )
 }
 
 /// The answers an upstream `infer` stage received, if the job has one and a server answered
@@ -57,15 +54,26 @@ pub(crate) fn stored_answers(input: &StageInput) -> Result<Option<ModelAnswers>,
 
 /// What an upstream `verify` stage decided, if the job has one; checked as it is read.
 pub(crate) fn stored_verification(input: &StageInput) -> Result<Option<VerifiedAsset>, StageError> {
-    let Some(verified) =
-        read_upstream::<VerifiedAsset>(input, ServiceStage::Verify, VERIFIED_FILE)?
-    else {
-        return Ok(None);
-    };
-    verified
-        .checked()
-        .map(Some)
-        .map_err(|e| StageError::Permanent(format!("{VERIFIED_FILE} of stage verify: {e}")))
+    read_checked(
+        input,
+        ServiceStage::Verify,
+        VERIFIED_FILE,
+        VerifiedAsset::checked,
+    )
+}
+
+/// [`read_upstream`], then `check`ed: a stored value this build cannot use fails the stage for
+/// good, naming the file.
+fn read_checked<T: serde::de::DeserializeOwned>(
+    input: &StageInput,
+    stage: ServiceStage,
+    file: &str,
+    check: impl FnOnce(T) -> uniphys_types::TypesResult<T>,
+) -> Result<Option<T>, StageError> {
+    read_upstream(input, stage, file)?
+        .map(check)
+        .transpose()
+        .map_err(|e| StageError::Permanent(format!("{file} of stage {stage}: {e}")))
 }
 
 /// The JSON file `file` of upstream stage `stage`, if the job has that stage and it wrote it.
