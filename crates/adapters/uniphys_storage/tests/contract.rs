@@ -390,10 +390,13 @@ fn start_moto() -> Option<Moto> {
 }
 
 /// Creates a bucket (moto accepts unsigned bucket creation; `object_store` cannot create buckets).
-fn create_bucket(endpoint: &str, bucket: &str) {
-    ureq::put(&format!("{endpoint}/{bucket}"))
-        .send_empty()
+async fn create_bucket(endpoint: &str, bucket: &str) {
+    let response = reqwest::Client::new()
+        .put(format!("{endpoint}/{bucket}"))
+        .send()
+        .await
         .unwrap();
+    assert!(response.status().is_success(), "{}", response.status());
 }
 
 fn moto_options(endpoint: &str) -> StorageOptions {
@@ -414,7 +417,7 @@ async fn s3_store_on_moto_keeps_the_contract() {
         "moto_server is missing from the venv: run the README's test command, which installs it",
     );
     let dir = tempfile::tempdir().unwrap();
-    create_bucket(&moto.endpoint, "artifacts");
+    create_bucket(&moto.endpoint, "artifacts").await;
     let options = moto_options(&moto.endpoint);
 
     // Bucket root.
@@ -479,7 +482,7 @@ async fn s3_store_without_conditional_put_falls_back_to_head_and_compare() {
         "moto_server is missing from the venv: run the README's test command, which installs it",
     );
     let dir = tempfile::tempdir().unwrap();
-    create_bucket(&moto.endpoint, "fallback");
+    create_bucket(&moto.endpoint, "fallback").await;
     let s3 = AmazonS3Builder::new()
         .with_bucket_name("fallback")
         .with_region("us-east-1")

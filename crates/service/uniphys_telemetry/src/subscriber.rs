@@ -15,7 +15,7 @@ use tracing_subscriber::layer::SubscriberExt as _;
 use tracing_subscriber::registry::LookupSpan;
 use tracing_subscriber::{EnvFilter, Layer, Registry};
 
-use crate::http_client::UreqClient;
+use crate::http_client::BlockingClient;
 use crate::{LogFormat, TelemetryConfig, TelemetryError, TelemetryResult};
 
 /// How long one export request to the collector may take.
@@ -160,7 +160,7 @@ pub fn tracer_provider(config: &TelemetryConfig) -> TelemetryResult<Option<SdkTr
         .with_protocol(Protocol::HttpBinary)
         .with_endpoint(url)
         .with_timeout(EXPORT_TIMEOUT)
-        .with_http_client(UreqClient::new(EXPORT_TIMEOUT))
+        .with_http_client(BlockingClient::new(EXPORT_TIMEOUT))
         .build()?;
     let resource = Resource::builder()
         .with_service_name(config.service_name.clone())

@@ -156,13 +156,9 @@ fn truncate_sends_full_length_header_then_part_of_the_body_and_closes() {
     let mut rest = Vec::new();
     assert_eq!(reader.read_to_end(&mut rest).unwrap_or(0), 0);
 
-    // ureq sees an error, not a short body.
-    let agent: ureq::Agent = ureq::Agent::config_builder()
-        .http_status_as_error(false)
-        .build()
-        .into();
-    let mut answer = agent.get(format!("{}/t", server.url())).call().unwrap();
-    assert!(answer.body_mut().read_to_string().is_err());
+    // An HTTP client sees an error, not a short body.
+    let answer = reqwest::blocking::get(format!("{}/t", server.url())).unwrap();
+    assert!(answer.text().is_err());
 }
 
 #[test]
@@ -185,12 +181,15 @@ fn hang_holds_until_the_client_gives_up_and_stop_releases_hung_sockets() {
         ReplayServer::start_with(Arc::new(|_: &RecordedRequest| Reply::fault(Fault::Hang)))
             .unwrap();
     // A client with a short timeout gives up.
-    let agent: ureq::Agent = ureq::Agent::config_builder()
-        .timeout_global(Some(Duration::from_millis(300)))
+    let client = reqwest::blocking::Client::builder()
+        .timeout(Duration::from_millis(300))
         .build()
-        .into();
-    let error = agent.get(format!("{}/h", server.url())).call().unwrap_err();
-    assert!(matches!(error, ureq::Error::Timeout(_)), "{error:?}");
+        .unwrap();
+    let error = client
+        .get(format!("{}/h", server.url()))
+        .send()
+        .unwrap_err();
+    assert!(error.is_timeout(), "{error:?}");
 
     // Two raw sockets stay hung until the server stops.
     let mut hung: Vec<TcpStream> = (0..2)
@@ -218,19 +217,18 @@ fn hang_holds_until_the_client_gives_up_and_stop_releases_hung_sockets() {
 }
 
 #[test]
-fn keep_alive_with_ureq_reuses_one_connection() {
+fn keep_alive_reuses_one_connection() {
     let server = ReplayServer::start(recording(
         r#"{"exchanges":[{"method":"GET","path":"/healthz","replies":[{"json":{"status":"ok"}}]}]}"#,
     ))
     .unwrap();
-    let agent: ureq::Agent = ureq::Agent::config_builder().build().into();
+    let client = reqwest::blocking::Client::new();
     for _ in 0..4 {
-        let body = agent
+        let body = client
             .get(format!("{}/healthz", server.url()))
-            .call()
+            .send()
             .unwrap()
-            .body_mut()
-            .read_to_string()
+            .text()
             .unwrap();
         assert_eq!(body, r#"{"status":"ok"}"#);
     }
@@ -254,17 +252,16 @@ fn chunked_and_large_bodies_arrive_whole() {
         .unwrap();
     assert_eq!(read_response(&mut reader).unwrap().body, b"11");
 
-    // 24 MB of base64-like text through ureq.
+    // 24 MB of base64-like text through an HTTP client.
     let large: String = (0..24_000_000u32)
         .map(|i| char::from(b'A' + (i % 26) as u8))
         .collect();
-    let agent: ureq::Agent = ureq::Agent::config_builder().build().into();
-    let answer = agent
+    let answer = reqwest::blocking::Client::new()
         .post(format!("{}/big", server.url()))
-        .send(&large)
+        .body(large)
+        .send()
         .unwrap()
-        .body_mut()
-        .read_to_string()
+        .text()
         .unwrap();
     assert_eq!(answer, "24000000");
     let requests = server.requests();
@@ -295,13 +292,9 @@ fn max_in_flight_counts_32_concurrent_answers() {
         .map(|_| {
             let url = url.clone();
             std::thread::spawn(move || {
-                let agent: ureq::Agent = ureq::Agent::config_builder().build().into();
-                agent
-                    .get(format!("{url}/d"))
-                    .call()
+                reqwest::blocking::get(format!("{url}/d"))
                     .unwrap()
-                    .body_mut()
-                    .read_to_string()
+                    .text()
                     .unwrap()
             })
         })
@@ -382,9 +375,7 @@ fn binary_prints_its_url_and_serves_the_recording() {
         .read_line(&mut url)
         .unwrap();
     let url = url.trim().to_owned();
-    let result = ureq::get(format!("{url}/healthz"))
-        .call()
-        .map(|mut r| r.body_mut().read_to_string());
+    let result = reqwest::blocking::get(format!("{url}/healthz")).map(|r| r.text());
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");

@@ -65,21 +65,22 @@ async fn a_large_chunked_upload_and_a_download_stream_over_http() {
     let total = 5 << 20;
     let url = format!("{base}/v1/assets?filename=big.glb");
     let (status, body) = tokio::task::spawn_blocking(move || {
-        let agent = ureq::Agent::config_builder()
-            .http_status_as_error(false)
-            .timeout_global(Some(Duration::from_secs(60)))
+        let client = reqwest::blocking::Client::builder()
+            .timeout(Duration::from_secs(60))
             .build()
-            .new_agent();
-        let mut response = agent
+            .expect("client");
+        // A body of unknown length: sent chunked.
+        let response = client
             .post(&url)
-            .header("authorization", &format!("Bearer {KEY}"))
-            .send(ureq::SendBody::from_owned_reader(Pattern {
+            .header("authorization", format!("Bearer {KEY}"))
+            .body(reqwest::blocking::Body::new(Pattern {
                 left: total,
                 next: 0,
             }))
+            .send()
             .expect("upload");
         let status = response.status().as_u16();
-        (status, response.body_mut().read_to_string().expect("body"))
+        (status, response.text().expect("body"))
     })
     .await
     .expect("client task");
@@ -125,9 +126,10 @@ async fn a_large_chunked_upload_and_a_download_stream_over_http() {
         .expect("complete");
     let url = format!("{base}/v1/assets/{asset}/artifacts/ingest/mesh.obj");
     let (status, length, downloaded) = tokio::task::spawn_blocking(move || {
-        let mut response = ureq::get(&url)
-            .header("authorization", &format!("Bearer {KEY}"))
-            .call()
+        let mut response = reqwest::blocking::Client::new()
+            .get(&url)
+            .header("authorization", format!("Bearer {KEY}"))
+            .send()
             .expect("download");
         let length = response
             .headers()
@@ -135,11 +137,7 @@ async fn a_large_chunked_upload_and_a_download_stream_over_http() {
             .and_then(|v| v.to_str().ok())
             .map(str::to_owned);
         let mut bytes = Vec::new();
-        response
-            .body_mut()
-            .as_reader()
-            .read_to_end(&mut bytes)
-            .expect("read");
+        response.read_to_end(&mut bytes).expect("read");
         (response.status().as_u16(), length, bytes)
     })
     .await

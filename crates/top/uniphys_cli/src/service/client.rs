@@ -62,7 +62,7 @@ pub struct StatusArgs {
 
 /// A client of the service's HTTP API with its key.
 pub(crate) struct Client {
-    agent: ureq::Agent,
+    http: reqwest::blocking::Client,
     base: String,
     key: String,
 }
@@ -83,27 +83,37 @@ impl Client {
                     })?
             }
         };
-        let agent = ureq::Agent::config_builder()
-            .http_status_as_error(false)
-            .timeout_global(Some(Duration::from_secs(600)))
+        let http = reqwest::blocking::Client::builder()
+            .timeout(Duration::from_secs(600))
             .build()
-            .new_agent();
+            .context("cannot set up the HTTP client")?;
         Ok(Self {
-            agent,
+            http,
             base: args.api_url.trim_end_matches('/').to_owned(),
             key,
         })
     }
 
+    /// A request for `path` of the API, with the key.
+    fn request(&self, method: reqwest::Method, path: &str) -> reqwest::blocking::RequestBuilder {
+        self.http
+            .request(method, format!("{}{path}", self.base))
+            .header("authorization", format!("Bearer {}", self.key))
+    }
+
     fn answer(
         &self,
-        response: Result<ureq::http::Response<ureq::Body>, ureq::Error>,
+        response: reqwest::Result<reqwest::blocking::Response>,
         what: &str,
     ) -> anyhow::Result<Value> {
-        let mut response =
+        let response =
             response.with_context(|| format!("{what}: cannot reach the API at {}", self.base))?;
         let status = response.status();
-        let body: Value = response.body_mut().read_json().unwrap_or(Value::Null);
+        let body: Value = response
+            .bytes()
+            .ok()
+            .and_then(|b| serde_json::from_slice(&b).ok())
+            .unwrap_or(Value::Null);
         if status.is_success() {
             return Ok(body);
         }
@@ -114,21 +124,13 @@ impl Client {
     }
 
     pub(crate) fn get(&self, path: &str) -> anyhow::Result<Value> {
-        let response = self
-            .agent
-            .get(format!("{}{path}", self.base))
-            .header("authorization", format!("Bearer {}", self.key))
-            .call();
+        let response = self.request(reqwest::Method::GET, path).send();
         self.answer(response, &format!("GET {path}"))
     }
 
     /// `POST path` with no body.
     pub(crate) fn post(&self, path: &str) -> anyhow::Result<Value> {
-        let response = self
-            .agent
-            .post(format!("{}{path}", self.base))
-            .header("authorization", format!("Bearer {}", self.key))
-            .send_empty();
+        let response = self.request(reqwest::Method::POST, path).send();
         self.answer(response, &format!("POST {path}"))
     }
 
@@ -136,10 +138,8 @@ impl Client {
     pub(crate) fn download(&self, path: &str, dest: &Path) -> anyhow::Result<(String, u64)> {
         use sha2::Digest;
         let mut response = self
-            .agent
-            .get(format!("{}{path}", self.base))
-            .header("authorization", format!("Bearer {}", self.key))
-            .call()
+            .request(reqwest::Method::GET, path)
+            .send()
             .with_context(|| format!("GET {path}: cannot reach the API at {}", self.base))?;
         if !response.status().is_success() {
             bail!("GET {path}: HTTP {}", response.status().as_u16());
@@ -147,11 +147,10 @@ impl Client {
         let mut file = std::fs::File::create(dest)
             .with_context(|| format!("cannot create {}", dest.display()))?;
         let mut hasher = sha2::Sha256::new();
-        let mut reader = response.body_mut().with_config().limit(u64::MAX).reader();
         let mut buffer = vec![0u8; 1 << 16];
         let mut size = 0u64;
         loop {
-            let n = std::io::Read::read(&mut reader, &mut buffer)
+            let n = std::io::Read::read(&mut response, &mut buffer)
                 .with_context(|| format!("GET {path}: the download broke off"))?;
             if n == 0 {
                 break;
@@ -169,20 +168,23 @@ impl Client {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .with_context(|| format!("{} has no file name", file.display()))?;
-        let mut handle =
+        let handle =
             std::fs::File::open(file).with_context(|| format!("cannot open {}", file.display()))?;
-        let mut request = self
-            .agent
-            .post(format!("{}/v1/assets", self.base))
-            .query("filename", &name)
-            .query("priority", priority.to_string());
+        let mut url = reqwest::Url::parse(&format!("{}/v1/assets", self.base))
+            .with_context(|| format!("{} is not a URL", self.base))?;
+        url.query_pairs_mut()
+            .append_pair("filename", &name)
+            .append_pair("priority", &priority.to_string());
         if let Some(batch) = batch {
-            request = request.query("batch", batch);
+            url.query_pairs_mut().append_pair("batch", batch);
         }
-        let response = request
+        let response = self
+            .http
+            .post(url)
             .header("authorization", format!("Bearer {}", self.key))
             .header("content-type", "application/octet-stream")
-            .send(ureq::SendBody::from_reader(&mut handle));
+            .body(handle)
+            .send();
         self.answer(response, &format!("upload {}", file.display()))
     }
 
@@ -190,12 +192,13 @@ impl Client {
     /// waited out as its `Retry-After` says and the same body sent again (known items answer
     /// 200 with their jobs, so a repeat makes nothing twice).
     pub(crate) fn post_batch(&self, body: &Value) -> anyhow::Result<Value> {
+        let bytes = serde_json::to_vec(body).context("the batch as JSON")?;
         loop {
             let response = self
-                .agent
-                .post(format!("{}/v1/batches", self.base))
-                .header("authorization", format!("Bearer {}", self.key))
-                .send_json(body);
+                .request(reqwest::Method::POST, "/v1/batches")
+                .header("content-type", "application/json")
+                .body(bytes.clone())
+                .send();
             if let Ok(r) = &response {
                 let status = r.status().as_u16();
                 if status == 429 || status == 503 {
