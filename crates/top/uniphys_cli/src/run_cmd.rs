@@ -42,7 +42,8 @@ pub(crate) fn run(args: &RunArgs) -> anyhow::Result<ExitCode> {
         ..LearnedOptions::default()
     });
     options.lvlm = args.lvlm.options(None)?;
-    let mut output = run_pipeline(&args.asset, &options, &StderrProgress::new())?;
+    let progress = StderrProgress::new(options.learned.is_some());
+    let mut output = run_pipeline(&args.asset, &options, &progress)?;
     let ingest_notes = options.ingest.transform_notes();
     if let Some(report) = output
         .artifacts
