@@ -172,17 +172,26 @@ pub(crate) fn ground(
     })
 }
 
-/// The `infer` stage: the UniPhysGen server's answers about `input`'s parts and object, when the
-/// options configure a server and hold no stored answers (`RunOptions::inferred`, checked here
-/// against the parts).
+/// The `infer` stage: the UniPhysGen server's answers about `input`'s parts and object: the
+/// stored ones (`RunOptions::inferred`, checked here against the parts), else [`ask_model`]'s.
 pub(crate) fn infer(
     input: &Input,
     options: &RunOptions,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<Option<ModelAnswers>> {
-    if let Some(stored) = &options.inferred {
-        return Ok(Some(stored.clone().checked(input.asset.parts.len())?));
+    match &options.inferred {
+        Some(stored) => Ok(Some(stored.clone().checked(input.asset.parts.len())?)),
+        None => ask_model(input, options, clock),
     }
+}
+
+/// The `infer` stage asking the server the options configure, if any (stored answers are not
+/// looked at).
+pub(crate) fn ask_model(
+    input: &Input,
+    options: &RunOptions,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<Option<ModelAnswers>> {
     let Some(learned) = &options.learned else {
         return Ok(None);
     };

@@ -19,7 +19,9 @@ use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport, VerifiedAsse
 use uniphys_uniphysgen::ModelAnswers;
 
 use crate::finish::{export_verified, verify_grounded};
-use crate::grounding::{colliders, ground, infer, prepare, stored_colliders, stored_grounding};
+use crate::grounding::{
+    ask_model, colliders, ground, infer, prepare, stored_colliders, stored_grounding,
+};
 use crate::input::{Input, read_input};
 use crate::learned::LearnedOptions;
 use crate::lvlm::LvlmOptions;
@@ -172,17 +174,8 @@ pub fn ground_asset(
 ) -> PipelineResult<GroundedAsset> {
     let mut clock = Clock::new(progress);
     let input = read_input(path, options, &mut clock)?;
-    let answers = infer(&input, options, &mut clock)?;
-    let prepared = prepare(&input, options, &mut clock)?;
-    let colliders = colliders(&input, options, &mut clock)?;
-    ground(
-        &input,
-        &prepared,
-        &colliders,
-        answers.as_ref(),
-        options,
-        &mut clock,
-    )
+    let (_, grounded) = ground_here(&input, options, &mut clock)?;
+    Ok(grounded)
 }
 
 /// Runs ingest and infer on the asset at `path` and returns the UniPhysGen server's answers, for
@@ -195,11 +188,7 @@ pub fn infer_asset(
 ) -> PipelineResult<Option<ModelAnswers>> {
     let mut clock = Clock::new(progress);
     let input = read_input(path, options, &mut clock)?;
-    let asked = RunOptions {
-        inferred: None,
-        ..options.clone()
-    };
-    infer(&input, &asked, &mut clock)
+    ask_model(&input, options, &mut clock)
 }
 
 /// Runs ingest and verify on the asset at `path` grounded as `options.grounded` says (or, without
@@ -228,22 +217,30 @@ fn grounded_input(
             let grounded = stored_grounding(stored, &input.asset)?;
             (stored_colliders(&grounded)?, grounded)
         }
-        None => {
-            let answers = infer(&input, options, clock)?;
-            let prepared = prepare(&input, options, clock)?;
-            let colliders = colliders(&input, options, clock)?;
-            let grounded = ground(
-                &input,
-                &prepared,
-                &colliders,
-                answers.as_ref(),
-                options,
-                clock,
-            )?;
-            (colliders, grounded)
-        }
+        None => ground_here(&input, options, clock)?,
     };
     Ok((input, colliders, grounded))
+}
+
+/// `input` grounded here: the model's answers (stored or asked), then prepare, colliders and
+/// ground; its colliders and what grounding decided.
+fn ground_here(
+    input: &Input,
+    options: &RunOptions,
+    clock: &mut Clock<'_>,
+) -> PipelineResult<(Vec<Vec<TriMesh>>, GroundedAsset)> {
+    let answers = infer(input, options, clock)?;
+    let prepared = prepare(input, options, clock)?;
+    let colliders = colliders(input, options, clock)?;
+    let grounded = ground(
+        input,
+        &prepared,
+        &colliders,
+        answers.as_ref(),
+        options,
+        clock,
+    )?;
+    Ok((colliders, grounded))
 }
 
 /// A verification stored by an earlier run of the `verify` stage, checked against the grounding
