@@ -27,22 +27,22 @@ pub(crate) struct Finished {
     pub(crate) report: VerificationReport,
 }
 
-/// The `verify` stage: `record` (grounded on `input`'s parts, with `colliders`) checked and its
-/// failing joints corrected.
+/// The `verify` stage: `record` (grounded on `input`'s parts, whose meshes are `meshes`
+/// ([`part_meshes`]), with `colliders`) checked and its failing joints corrected.
 pub(crate) fn verify_grounded(
     input: &Input,
+    meshes: &[TriMesh],
     record: AssetRecord,
     colliders: &[Vec<TriMesh>],
     options: &RunOptions,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<VerifiedAsset> {
     let asset = &input.asset;
-    let meshes = part_meshes(asset);
     clock.stage(Stage::Verify, || {
         // Touching pairs serve verification (the dynamic check's contact filter) and export
         // (MJCF excludes): computed once, timed with verification.
         let touching = touching_pairs(asset, options.touching_fraction);
-        let verified = verify(record, &meshes, colliders, touching, &options.verify)?;
+        let verified = verify(record, meshes, colliders, touching, &options.verify)?;
         let summary = format!(
             "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
             verified.joints_passed,
@@ -59,16 +59,17 @@ pub(crate) fn verify_grounded(
 }
 
 /// The `export` stage: the parents' colliders carved where their parts move, and every file of
-/// `verified` written; `notes` are what the stages before verification did.
+/// `verified` (on `input`'s parts, whose meshes are `meshes`) written; `notes` are what the
+/// stages before verification did.
 pub(crate) fn export_verified(
     input: &Input,
+    meshes: &[TriMesh],
     verified: VerifiedAsset,
     mut colliders: Vec<Vec<TriMesh>>,
     mut notes: Vec<String>,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<Finished> {
     let asset = &input.asset;
-    let meshes = part_meshes(asset);
     let VerifiedAsset {
         record,
         sections,
@@ -78,7 +79,7 @@ pub(crate) fn export_verified(
         ..
     } = verified;
     notes.extend(corrections);
-    let carved = carve_cavities(&record, &meshes, &mut colliders);
+    let carved = carve_cavities(&record, meshes, &mut colliders);
     if carved > 0 {
         notes.push(format!(
             "colliders: the hulls of {carved} parents carved around the parts jointed to them, which leaves room where they move"
@@ -98,7 +99,7 @@ pub(crate) fn export_verified(
         report.metrics.extend(metrics);
         let out = export(&ExportInput {
             record: &record,
-            part_meshes: &meshes,
+            part_meshes: meshes,
             colliders: &colliders,
             part_colors: &colors,
             materials: &asset.materials,
@@ -110,7 +111,7 @@ pub(crate) fn export_verified(
         let mut artifacts = out.artifacts;
         artifacts.push(Artifact {
             path: PREVIEW_PATH.to_owned(),
-            bytes: preview_png(&meshes)?,
+            bytes: preview_png(meshes)?,
         });
         artifacts.sort_by(|a, b| a.path.cmp(&b.path));
         let failures = out.report.failures().count();
@@ -124,7 +125,8 @@ pub(crate) fn export_verified(
     })
 }
 
-fn part_meshes(asset: &MeshAsset) -> Vec<TriMesh> {
+/// The meshes of `asset`'s parts, in part order (what verification and export take).
+pub(crate) fn part_meshes(asset: &MeshAsset) -> Vec<TriMesh> {
     asset.parts.iter().map(|p| p.mesh.clone()).collect()
 }
 

@@ -18,7 +18,7 @@ use uniphys_mesh_io::IngestOptions;
 use uniphys_types::{AssetRecord, GroundedAsset, VerificationReport, VerifiedAsset};
 use uniphys_uniphysgen::ModelAnswers;
 
-use crate::finish::{export_verified, verify_grounded};
+use crate::finish::{export_verified, part_meshes, verify_grounded};
 use crate::grounding::{
     ask_model, colliders, ground, infer, prepare, stored_colliders, stored_grounding,
 };
@@ -150,13 +150,21 @@ pub fn run(
 ) -> PipelineResult<RunOutput> {
     let mut clock = Clock::new(progress);
     let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
+    let meshes = part_meshes(&input.asset);
     let verified = match &options.verified {
         Some(stored) => stored_verification(stored, &grounded.record)?,
-        None => verify_grounded(&input, grounded.record, &colliders, options, &mut clock)?,
+        None => verify_grounded(
+            &input,
+            &meshes,
+            grounded.record,
+            &colliders,
+            options,
+            &mut clock,
+        )?,
     };
     let mut notes = input.notes.clone();
     notes.extend(grounded.notes);
-    let finished = export_verified(&input, verified, colliders, notes, &mut clock)?;
+    let finished = export_verified(&input, &meshes, verified, colliders, notes, &mut clock)?;
     Ok(RunOutput {
         record: finished.record,
         artifacts: finished.artifacts,
@@ -201,7 +209,15 @@ pub fn verify_asset(
 ) -> PipelineResult<VerifiedAsset> {
     let mut clock = Clock::new(progress);
     let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
-    verify_grounded(&input, grounded.record, &colliders, options, &mut clock)
+    let meshes = part_meshes(&input.asset);
+    verify_grounded(
+        &input,
+        &meshes,
+        grounded.record,
+        &colliders,
+        options,
+        &mut clock,
+    )
 }
 
 /// The input read, with its colliders and grounding: stored ones when `options.grounded` has
