@@ -197,6 +197,12 @@ pub enum IngestError {
         /// The violated invariant.
         source: GeometryError,
     },
+    /// A stored ingested asset ([`crate::IngestedAsset`]) that cannot be read back.
+    #[error("the stored ingested asset cannot be read: {message}; run the ingest stage again")]
+    Stored {
+        /// What is wrong with the bytes.
+        message: String,
+    },
 }
 
 /// Result alias for [`IngestError`].

@@ -6,7 +6,8 @@ use std::path::Path;
 use uniphys_types::SourceFormat;
 
 /// How far the input's coordinates can be trusted as a length unit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum InputUnits {
     /// The format fixes the unit (glTF and URDF: metres).
     Declared,

@@ -13,6 +13,8 @@
 //!   [`AssetRotation`]: a seeded uniform random rotation (`rotation.rs`).
 //! - [`InputFacts`], [`InputUnits`]: whether the coordinates have a unit, and the kind a
 //!   PartNet-Mobility `meta.json` names (`facts.rs`).
+//! - [`IngestedAsset`]: what was read, stored between the queue's stages so no later stage
+//!   parses the source again (`stored.rs`).
 //! - [`IngestError`], [`IngestResult`]: errors (`error.rs`).
 //! - Format readers: `gltf.rs` (+ `gltf_data.rs`), `obj.rs`, `ply.rs`, `stl.rs`, `urdf.rs`
 //!   (+ `urdf_tree.rs`, `urdf_joints.rs`), `primitives.rs` (URDF shapes), `texture.rs`.
@@ -35,6 +37,7 @@ mod primitives;
 mod rotation;
 mod source;
 mod stl;
+mod stored;
 mod texture;
 mod urdf;
 mod urdf_joints;
@@ -45,3 +48,4 @@ pub use facts::{InputFacts, InputUnits};
 pub use load::{LoadedAsset, default_up_axis, detect_format, load_asset};
 pub use options::IngestOptions;
 pub use rotation::{AssetRotation, uniform_rotation};
+pub use stored::{IngestedAsset, STORED_ASSET_VERSION};

@@ -3,17 +3,63 @@
 //! the ground. Every later stage works on what it returns, in metres, with z up and z = 0 under
 //! the object.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use uniphys_decompose::{BuiltinSegmenter, GeometricGenerator, decompose_asset, split_asset};
 use uniphys_geometry::{DMat4, DVec3, MeshAsset};
 use uniphys_ground::{ObjectKind, object_kind, sanitize};
-use uniphys_mesh_io::load_asset;
+use uniphys_mesh_io::{IngestedAsset, load_asset};
 use uniphys_types::SourceInfo;
 
 use crate::real_scale::auto_scale;
 use crate::run::{Clock, RunOptions};
 use crate::{PipelineError, PipelineResult, Stage};
+
+/// What a run reads: a file (or a PartNet-Mobility folder), or an asset an earlier `ingest`
+/// stage read and stored ([`IngestedAsset`]), which is not parsed again.
+#[derive(Clone, Copy, Debug)]
+pub enum AssetSource<'a> {
+    /// A file or folder the readers parse.
+    File(&'a Path),
+    /// What the queue's `ingest` stage read.
+    Ingested(&'a IngestedAsset),
+}
+
+impl<'a> From<&'a Path> for AssetSource<'a> {
+    fn from(path: &'a Path) -> Self {
+        Self::File(path)
+    }
+}
+
+impl<'a> From<&'a PathBuf> for AssetSource<'a> {
+    fn from(path: &'a PathBuf) -> Self {
+        Self::File(path)
+    }
+}
+
+impl<'a> From<&'a IngestedAsset> for AssetSource<'a> {
+    fn from(asset: &'a IngestedAsset) -> Self {
+        Self::Ingested(asset)
+    }
+}
+
+impl AssetSource<'_> {
+    /// The asset's name ([`asset_name`] of a file).
+    fn name(&self) -> String {
+        match self {
+            Self::File(path) => asset_name(path),
+            Self::Ingested(asset) => asset.name.clone(),
+        }
+    }
+
+    /// How messages name it: the file's path, or the stored asset's source file name.
+    fn label(&self) -> String {
+        match self {
+            Self::File(path) => path.display().to_string(),
+            Self::Ingested(asset) => asset.loaded.source.file_name.clone(),
+        }
+    }
+}
 
 /// An input read and put in the object frame.
 pub(crate) struct Input {
@@ -33,17 +79,21 @@ pub(crate) struct Input {
     pub(crate) notes: Vec<String>,
 }
 
-/// Reads the input at `path` (the run's `ingest` stage), applies the decomposition the options
-/// ask for, scales it to a real size under `--unit auto`, and rests it on the ground.
+/// Reads the input (the run's `ingest` stage; a stored [`IngestedAsset`] is taken as it is),
+/// applies the decomposition the options ask for, scales it to a real size under `--unit auto`,
+/// and rests it on the ground.
 pub(crate) fn read_input(
-    path: &Path,
+    from: AssetSource<'_>,
     options: &RunOptions,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<Input> {
-    let name = asset_name(path);
+    let name = from.name();
     let (mut asset, mut source, dropped, warnings, facts, decompose_note) =
         clock.stage(Stage::Ingest, || {
-            let mut loaded = load_asset(path, &options.ingest)?;
+            let mut loaded = match from {
+                AssetSource::File(path) => load_asset(path, &options.ingest)?,
+                AssetSource::Ingested(stored) => stored.loaded.clone(),
+            };
             let mut summary = format!(
                 "{} parts, {} triangles, {} joints declared",
                 loaded.asset.parts.len(),
@@ -129,7 +179,7 @@ pub(crate) fn read_input(
         return Err(PipelineError::Empty(format!(
             "part {:?} of {} has no triangles",
             empty.name,
-            path.display()
+            from.label()
         )));
     }
     let offset = asset.rest_on_ground();

@@ -26,10 +26,11 @@ mod run;
 mod verify;
 
 pub use error::{PipelineError, PipelineResult};
-pub use input::asset_name;
+pub use input::{AssetSource, asset_name};
 pub use learned::LearnedOptions;
 pub use lvlm::LvlmOptions;
 pub use progress::{NoProgress, Progress, Stage};
 pub use run::{RunOptions, RunOutput, ground_asset, infer_asset, run, verify_asset};
+pub use uniphys_mesh_io::IngestedAsset;
 pub use uniphys_uniphysgen::ModelAnswers;
 pub use verify::VerifyOptions;

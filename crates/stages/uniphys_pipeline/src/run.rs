@@ -8,7 +8,6 @@
 //! (materials, properties, articulation chosen by sweeps; `grounding`), verify (intrinsic levels
 //! 0-4, articulation sweeps with correction) and export (`finish`).
 
-use std::path::Path;
 use std::time::{Duration, Instant};
 
 use uniphys_decompose::{DecomposeMode, DecomposeOptions};
@@ -22,7 +21,7 @@ use crate::finish::{export_verified, part_meshes, verify_grounded};
 use crate::grounding::{
     ask_model, colliders, ground, infer, prepare, stored_colliders, stored_grounding,
 };
-use crate::input::{Input, read_input};
+use crate::input::{AssetSource, Input, read_input};
 use crate::learned::LearnedOptions;
 use crate::lvlm::LvlmOptions;
 use crate::verify::VerifyOptions;
@@ -140,16 +139,17 @@ impl<'a> Clock<'a> {
     }
 }
 
-/// Runs ingest, prepare, colliders, ground, verify and export on the asset at `path`; with
-/// `options.grounded`, prepare, colliders and ground are skipped and the stored grounding (with
-/// its colliders) is verified; with `options.verified` too, only export runs.
-pub fn run(
-    path: &Path,
+/// Runs ingest, prepare, colliders, ground, verify and export on `source` (a file, or the asset
+/// an `ingest` stage stored); with `options.grounded`, prepare, colliders and ground are skipped
+/// and the stored grounding (with its colliders) is verified; with `options.verified` too, only
+/// export runs.
+pub fn run<'a>(
+    source: impl Into<AssetSource<'a>>,
     options: &RunOptions,
     progress: &dyn Progress,
 ) -> PipelineResult<RunOutput> {
     let mut clock = Clock::new(progress);
-    let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
+    let (input, colliders, grounded) = grounded_input(source.into(), options, &mut clock)?;
     let meshes = part_meshes(&input.asset);
     let verified = match &options.verified {
         Some(stored) => stored_verification(stored, &grounded.record)?,
@@ -173,42 +173,42 @@ pub fn run(
     })
 }
 
-/// Runs ingest, prepare, colliders and ground on the asset at `path` and returns what grounding
-/// decided, for a later [`run`] with `options.grounded` (`options.grounded` itself is ignored).
-pub fn ground_asset(
-    path: &Path,
+/// Runs ingest, prepare, colliders and ground on `source` and returns what grounding decided,
+/// for a later [`run`] with `options.grounded` (`options.grounded` itself is ignored).
+pub fn ground_asset<'a>(
+    source: impl Into<AssetSource<'a>>,
     options: &RunOptions,
     progress: &dyn Progress,
 ) -> PipelineResult<GroundedAsset> {
     let mut clock = Clock::new(progress);
-    let input = read_input(path, options, &mut clock)?;
+    let input = read_input(source.into(), options, &mut clock)?;
     let (_, grounded) = ground_here(&input, options, &mut clock)?;
     Ok(grounded)
 }
 
-/// Runs ingest and infer on the asset at `path` and returns the UniPhysGen server's answers, for
-/// a later [`ground_asset`] or [`run`] with `options.inferred`; `None` when no server is
-/// configured (`options.learned`; `options.inferred` itself is ignored).
-pub fn infer_asset(
-    path: &Path,
+/// Runs ingest and infer on `source` and returns the UniPhysGen server's answers, for a later
+/// [`ground_asset`] or [`run`] with `options.inferred`; `None` when no server is configured
+/// (`options.learned`; `options.inferred` itself is ignored).
+pub fn infer_asset<'a>(
+    source: impl Into<AssetSource<'a>>,
     options: &RunOptions,
     progress: &dyn Progress,
 ) -> PipelineResult<Option<ModelAnswers>> {
     let mut clock = Clock::new(progress);
-    let input = read_input(path, options, &mut clock)?;
+    let input = read_input(source.into(), options, &mut clock)?;
     ask_model(&input, options, &mut clock)
 }
 
-/// Runs ingest and verify on the asset at `path` grounded as `options.grounded` says (or, without
-/// it, grounded here first) and returns what verification decided, for a later [`run`] with
+/// Runs ingest and verify on `source` grounded as `options.grounded` says (or, without it,
+/// grounded here first) and returns what verification decided, for a later [`run`] with
 /// `options.verified` (`options.verified` itself is ignored).
-pub fn verify_asset(
-    path: &Path,
+pub fn verify_asset<'a>(
+    source: impl Into<AssetSource<'a>>,
     options: &RunOptions,
     progress: &dyn Progress,
 ) -> PipelineResult<VerifiedAsset> {
     let mut clock = Clock::new(progress);
-    let (input, colliders, grounded) = grounded_input(path, options, &mut clock)?;
+    let (input, colliders, grounded) = grounded_input(source.into(), options, &mut clock)?;
     let meshes = part_meshes(&input.asset);
     verify_grounded(
         &input,
@@ -223,11 +223,11 @@ pub fn verify_asset(
 /// The input read, with its colliders and grounding: stored ones when `options.grounded` has
 /// them, else prepared, decomposed into hulls and grounded here.
 fn grounded_input(
-    path: &Path,
+    source: AssetSource<'_>,
     options: &RunOptions,
     clock: &mut Clock<'_>,
 ) -> PipelineResult<(Input, Vec<Vec<TriMesh>>, GroundedAsset)> {
-    let input = read_input(path, options, clock)?;
+    let input = read_input(source, options, clock)?;
     let (colliders, grounded) = match &options.grounded {
         Some(stored) => {
             let grounded = stored_grounding(stored, &input.asset)?;

@@ -1,5 +1,5 @@
 //! `convert`: export of the verification an upstream `verify` stage stored of the grounding an
-//! upstream `ground` stage stored, on the submitted file; writes every exported file (URDF, MJCF,
+//! upstream `ground` stage stored, on the asset `ingest` stored; writes every exported file (URDF, MJCF,
 //! meshes, record, report) as artifacts. A job submitted before those stages existed has
 //! neither (or only the grounding): the missing stages run here in process, as `uniphys run`
 //! runs them. An asset that fails verification is still written, with `passed: false` in the
@@ -43,7 +43,8 @@ impl Stage for ConvertStage {
         // 2: the parts come from an upstream `decompose` when it split the input.
         // 3: the grounding comes from an upstream `ground` when the job has one.
         // 4: the verification comes from an upstream `verify` when the job has one.
-        4
+        // 5: the asset comes from `ingest`'s stored copy when it wrote one.
+        5
     }
 
     fn run(
@@ -52,7 +53,7 @@ impl Stage for ConvertStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        let (source, mut options) = pipeline_start(input, &self.options)?;
+        let (asset, mut options) = pipeline_start(input, &self.options)?;
         options.grounded = stored_grounding(input)?;
         if options.grounded.is_some() {
             options.verified = stored_verification(input)?;
@@ -62,12 +63,12 @@ impl Stage for ConvertStage {
             (Some(_), None) => &AFTER_GROUND,
             (None, _) => &PipelineStage::ALL,
         };
-        let output = run(source.path(), &options, &Relay::new(control, stages))
-            .map_err(|e| classify(&e, &source))?;
+        let output = run(asset.source(), &options, &Relay::new(control, stages))
+            .map_err(|e| classify(&e, &asset))?;
         control.check()?;
         let files = output.artifacts.len();
         for artifact in output.artifacts {
-            let bytes = source.without_local_paths_in(&artifact.path, artifact.bytes);
+            let bytes = asset.without_local_paths_in(&artifact.path, artifact.bytes);
             out.put(&artifact.path, bytes)?;
         }
         let summary = ConvertSummary {

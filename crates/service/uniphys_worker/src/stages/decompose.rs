@@ -1,4 +1,4 @@
-//! `decompose`: stage 2 in the queue. Reads the submitted file, and when the input needs it (see
+//! `decompose`: stage 2 in the queue. Reads the asset `ingest` stored, and when it needs it (see
 //! [`DecomposeMode`]) splits it into parts with the built-in providers, or with SAM-compatible and
 //! PartField-compatible services when they are configured; writes the per-part
 //! meshes, `face_parts.json` (face of the merged input mesh → part) and `decompose.json`.
@@ -16,8 +16,8 @@ use uniphys_vision::ClientConfig;
 
 use crate::input_error::unreadable;
 use crate::outputs::{OutputWriter, summary_value};
-use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
+use crate::stages::upstream::StageAsset;
 
 /// The decompose stage.
 #[derive(Clone, Debug, Default)]
@@ -50,7 +50,8 @@ impl Stage for DecomposeStage {
     }
 
     fn version(&self) -> u32 {
-        1
+        // 2: reads `ingest`'s stored asset when it wrote one.
+        2
     }
 
     fn run(
@@ -59,12 +60,15 @@ impl Stage for DecomposeStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        input.upstream(ServiceStage::Ingest.name())?;
-        control.progress(0.05, "fetching the source");
-        let source = SourceFile::fetch(input)?;
-        let loaded =
-            load_asset(source.path(), &self.ingest).map_err(|e| unreadable(&source, &e))?;
-        let asset = loaded.asset;
+        control.progress(0.05, "reading the ingested asset");
+        let asset = match StageAsset::of(input)? {
+            StageAsset::Stored(stored) => stored.loaded.asset,
+            StageAsset::Fetched(source) => {
+                load_asset(source.path(), &self.ingest)
+                    .map_err(|e| unreadable(&source, &e))?
+                    .asset
+            }
+        };
         if !self.mode.applies_to(&asset) {
             let summary = DecomposeStageSummary {
                 decomposed: false,

@@ -1,5 +1,5 @@
 //! `ground`: the pipeline's stages up to grounding (ingest, prepare, colliders, ground) on the
-//! submitted file, split into the parts of an upstream `decompose` when it split the input, with
+//! asset `ingest` stored, split into the parts of an upstream `decompose` when it split the input, with
 //! the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
 //! configured server itself). The only stage that calls an LVLM; it writes what the grounders
 //! decided (`grounded.json`, a [`GroundedAsset`]), which `verify` checks and `convert` exports,
@@ -12,10 +12,9 @@ use uniphys_pipeline::{PipelineError, RunOptions, Stage as PipelineStage, ground
 use uniphys_types::{AssetRecord, GroundSummary, GroundedAsset, Provenance, ServiceStage};
 
 use crate::outputs::{OutputWriter, summary_value};
-use crate::source::SourceFile;
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{GROUNDED_FILE, pipeline_start, stored_answers};
+use crate::stages::upstream::{GROUNDED_FILE, StageAsset, pipeline_start, stored_answers};
 
 /// The pipeline stages a `ground` run goes through.
 const GROUND_STAGES: [PipelineStage; 4] = [
@@ -39,7 +38,8 @@ impl Stage for GroundStage {
 
     fn version(&self) -> u32 {
         // 2: the UniPhysGen answers come from an upstream `infer` when the job has one.
-        2
+        // 3: the asset comes from `ingest`'s stored copy when it wrote one.
+        3
     }
 
     fn run(
@@ -48,14 +48,14 @@ impl Stage for GroundStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        let (source, mut options) = pipeline_start(input, &self.options)?;
+        let (asset, mut options) = pipeline_start(input, &self.options)?;
         options.inferred = stored_answers(input)?;
         let grounded = ground_asset(
-            source.path(),
+            asset.source(),
             &options,
             &Relay::new(control, &GROUND_STAGES),
         )
-        .map_err(|e| classify(&e, &source))?;
+        .map_err(|e| classify(&e, &asset))?;
         control.check()?;
         out.put_json(GROUNDED_FILE, &grounded)?;
         summary_value(&summary_of(&grounded))
@@ -93,8 +93,8 @@ fn providers(record: &AssetRecord) -> Vec<String> {
 
 /// A failure the same run may get past later ([`PipelineError::is_transient`]: a model server
 /// that stayed away) is retried.
-pub(crate) fn classify(error: &PipelineError, source: &SourceFile) -> StageError {
-    let message = source.without_local_paths(&format!("the pipeline failed: {error}"));
+pub(crate) fn classify(error: &PipelineError, asset: &StageAsset) -> StageError {
+    let message = asset.without_local_paths(&format!("the pipeline failed: {error}"));
     if error.is_transient() {
         StageError::Transient(message)
     } else {

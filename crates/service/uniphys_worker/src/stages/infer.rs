@@ -1,4 +1,4 @@
-//! `infer`: the UniPhysGen model server asked about the submitted file's parts (split as an
+//! `infer`: the UniPhysGen model server asked about the stored asset's parts (split as an
 //! upstream `decompose` split them) and its object, when this worker has one configured: the only
 //! stage that calls it, so its GPU slots are taken by this stage's pool alone. Writes the answers
 //! (`inferred.json`, [`ModelAnswers`]), which `ground` applies without asking again; with no
@@ -30,7 +30,8 @@ impl Stage for InferStage {
     }
 
     fn version(&self) -> u32 {
-        1
+        // 2: the asset comes from `ingest`'s stored copy when it wrote one.
+        2
     }
 
     fn run(
@@ -42,9 +43,13 @@ impl Stage for InferStage {
         if self.options.learned.is_none() {
             return summary_value(&InferSummary::default());
         }
-        let (source, options) = pipeline_start(input, &self.options)?;
-        let answers = infer_asset(source.path(), &options, &Relay::new(control, &INFER_STAGES))
-            .map_err(|e| classify(&e, &source))?;
+        let (asset, options) = pipeline_start(input, &self.options)?;
+        let answers = infer_asset(
+            asset.source(),
+            &options,
+            &Relay::new(control, &INFER_STAGES),
+        )
+        .map_err(|e| classify(&e, &asset))?;
         control.check()?;
         let Some(answers) = answers else {
             return summary_value(&InferSummary::default());

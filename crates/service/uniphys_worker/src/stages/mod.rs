@@ -16,5 +16,5 @@ pub use ground::GroundStage;
 pub use infer::InferStage;
 pub use ingest::IngestStage;
 pub use standin::{StandInStage, standin_output};
-pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE, INFERRED_FILE, VERIFIED_FILE};
+pub use upstream::{FACE_PARTS_FILE, GROUNDED_FILE, INFERRED_FILE, INGESTED_FILE, VERIFIED_FILE};
 pub use verify::VerifyStage;

@@ -1,12 +1,16 @@
-//! What the pipeline's stages read from the stages before them: `decompose`'s face-to-part map,
-//! `infer`'s model answers, `ground`'s grounding and `verify`'s verification.
+//! What the pipeline's stages read from the stages before them: `ingest`'s stored asset (the
+//! source is parsed once, by `ingest`), `decompose`'s face-to-part map, `infer`'s model
+//! answers, `ground`'s grounding and `verify`'s verification.
 
-use uniphys_pipeline::{ModelAnswers, RunOptions};
+use uniphys_pipeline::{AssetSource, IngestedAsset, ModelAnswers, RunOptions};
 use uniphys_types::{GroundedAsset, ServiceStage, VerifiedAsset};
 
 use crate::source::SourceFile;
 use crate::stage::{StageError, StageInput};
 
+/// The file `ingest` writes: what it read ([`IngestedAsset`]), which later stages read instead
+/// of the source.
+pub const INGESTED_FILE: &str = "asset.bin";
 /// The file `convert` and `ground` read from `decompose`'s output.
 pub const FACE_PARTS_FILE: &str = "face_parts.json";
 /// The file `ground` reads from `infer`'s output.
@@ -16,18 +20,64 @@ pub const GROUNDED_FILE: &str = "grounded.json";
 /// The file `convert` reads from `verify`'s output.
 pub const VERIFIED_FILE: &str = "verified.json";
 
-/// What a stage running the in-process pipeline starts from: the submitted file (after checking
-/// that `ingest` read it) and `options` with the parts of an upstream `decompose`, when it split
-/// the input.
+/// The asset a stage works on: what `ingest` stored, or, in a job whose `ingest` ran before
+/// it stored what it read, the submitted file fetched to be parsed again.
+pub(crate) enum StageAsset {
+    /// What `ingest` read.
+    Stored(IngestedAsset),
+    /// The submitted file (an older job).
+    Fetched(SourceFile),
+}
+
+impl StageAsset {
+    /// What `ingest` stored, else the submitted file (after checking that `ingest` ran).
+    pub(crate) fn of(input: &StageInput) -> Result<Self, StageError> {
+        input.upstream(ServiceStage::Ingest.name())?;
+        match read_upstream_bytes(input, ServiceStage::Ingest, INGESTED_FILE)? {
+            Some((key, bytes)) => IngestedAsset::from_bytes(&bytes)
+                .map(Self::Stored)
+                .map_err(|e| StageError::Permanent(format!("{key}: {e}"))),
+            None => SourceFile::fetch(input).map(Self::Fetched),
+        }
+    }
+
+    /// The pipeline's view of it.
+    pub(crate) fn source(&self) -> AssetSource<'_> {
+        match self {
+            Self::Stored(asset) => AssetSource::Ingested(asset),
+            Self::Fetched(file) => AssetSource::File(file.path()),
+        }
+    }
+
+    /// `message` without the worker's temporary folder ([`SourceFile::without_local_paths`]);
+    /// a stored asset names none.
+    pub(crate) fn without_local_paths(&self, message: &str) -> String {
+        match self {
+            Self::Stored(_) => message.to_owned(),
+            Self::Fetched(file) => file.without_local_paths(message),
+        }
+    }
+
+    /// An output file's bytes without the worker's temporary folder
+    /// ([`SourceFile::without_local_paths_in`]).
+    pub(crate) fn without_local_paths_in(&self, name: &str, bytes: Vec<u8>) -> Vec<u8> {
+        match self {
+            Self::Stored(_) => bytes,
+            Self::Fetched(file) => file.without_local_paths_in(name, bytes),
+        }
+    }
+}
+
+/// What a stage running the in-process pipeline starts from: the asset ([`StageAsset::of`])
+/// and `options` with the parts of an upstream `decompose`, when it split the input.
 pub(crate) fn pipeline_start(
     input: &StageInput,
     options: &RunOptions,
-) -> Result<(SourceFile, RunOptions), StageError> {
-    input.upstream(ServiceStage::Ingest.name())?;
-    let source = SourceFile::fetch(input)?;
+) -> Result<(StageAsset, RunOptions), StageError> {
+    let asset = StageAsset::of(input)?;
     let mut options = options.clone();
     options.face_parts = stored_face_parts(input)?;
-    Ok((source, options))
+    Ok((asset, options))
 }
 
 /// The face-to-part map written by an upstream `decompose` stage, if the job has one and it
@@ -82,6 +132,21 @@ fn read_upstream<T: serde::de::DeserializeOwned>(
     stage: ServiceStage,
     file: &str,
 ) -> Result<Option<T>, StageError> {
+    let Some((key, bytes)) = read_upstream_bytes(input, stage, file)? else {
+        return Ok(None);
+    };
+    serde_json::from_slice(&bytes)
+        .map(Some)
+        .map_err(|e| StageError::Permanent(format!("{key}: {e}")))
+}
+
+/// The key and bytes of file `file` of upstream stage `stage`, if the job has that stage and it
+/// wrote it.
+fn read_upstream_bytes(
+    input: &StageInput,
+    stage: ServiceStage,
+    file: &str,
+) -> Result<Option<(String, Vec<u8>)>, StageError> {
     let Some((_, manifest)) = input.upstream.iter().find(|(name, _)| name == stage.name()) else {
         return Ok(None);
     };
@@ -89,7 +154,5 @@ fn read_upstream<T: serde::de::DeserializeOwned>(
         return Ok(None);
     };
     let bytes = input.fetch(&entry.key)?;
-    serde_json::from_slice(&bytes)
-        .map(Some)
-        .map_err(|e| StageError::Permanent(format!("{}: {e}", entry.key)))
+    Ok(Some((entry.key.clone(), bytes)))
 }

@@ -1,4 +1,4 @@
-//! `verify`: the grounding an upstream `ground` stage stored, verified on the submitted file's
+//! `verify`: the grounding an upstream `ground` stage stored, verified on the stored asset's
 //! parts (intrinsic checks, every movable joint swept and corrected when it fails, the dynamic
 //! check); writes what verification decided (`verified.json`, a [`VerifiedAsset`]), which
 //! `convert` exports. It sends no model request, and a retry of `convert` verifies nothing again.
@@ -29,7 +29,8 @@ impl Stage for VerifyStage {
     }
 
     fn version(&self) -> u32 {
-        1
+        // 2: the asset comes from `ingest`'s stored copy when it wrote one.
+        2
     }
 
     fn run(
@@ -38,15 +39,19 @@ impl Stage for VerifyStage {
         out: &mut OutputWriter,
         control: &StageControl,
     ) -> Result<Value, StageError> {
-        let (source, mut options) = pipeline_start(input, &self.options)?;
+        let (asset, mut options) = pipeline_start(input, &self.options)?;
         options.grounded = Some(stored_grounding(input)?.ok_or_else(|| {
             StageError::Permanent(
                 "verify needs the grounding of an upstream ground stage, and the job has none"
                     .to_owned(),
             )
         })?);
-        let verified = verify_asset(source.path(), &options, &Relay::new(control, &AFTER_GROUND))
-            .map_err(|e| classify(&e, &source))?;
+        let verified = verify_asset(
+            asset.source(),
+            &options,
+            &Relay::new(control, &AFTER_GROUND),
+        )
+        .map_err(|e| classify(&e, &asset))?;
         control.check()?;
         out.put_json(VERIFIED_FILE, &verified)?;
         summary_value(&summary_of(&verified))

@@ -5,6 +5,7 @@
 //! the pipeline's stages retried alone, a retried `convert` asking no model again (`grounding`).
 
 mod grounding;
+mod stored_asset;
 
 use std::path::Path;
 use std::time::{Duration, Instant};
