@@ -8,10 +8,13 @@ use uniphys_examples::{GlbFrame, catalogue, write_glb};
 use uniphys_mesh_io::load_asset;
 use uniphys_pipeline::{IngestedAsset, NoProgress, RunOptions, asset_name, run};
 
+/// Exported files: path and bytes.
+type Files = Vec<(String, Vec<u8>)>;
+
 /// The exported files of a run on `path` and of a run on what `ingest` would store of it.
-fn both_runs(path: &Path) -> (Vec<(String, Vec<u8>)>, Vec<(String, Vec<u8>)>) {
+fn both_runs(path: &Path) -> (Files, Files) {
     let options = RunOptions::default();
-    let files = |artifacts: Vec<uniphys_export::Artifact>| -> Vec<(String, Vec<u8>)> {
+    let files = |artifacts: Vec<uniphys_export::Artifact>| -> Files {
         artifacts.into_iter().map(|a| (a.path, a.bytes)).collect()
     };
     let from_file = run(path, &options, &NoProgress).expect("a run on the file");
