@@ -18,7 +18,8 @@
 //! parent or runs askew (a laptop's screen slid off its base, a door slid diagonally across its
 //! cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps
 //! its axis: its range changes, or, when that fits the parts poorly (a door reversed about its
-//! handle's edge), its pivot; a failure late in the range is cut before the range is reversed.
+//! handle's edge), its pivot; a failure late in the range is cut before the range is reversed,
+//! and the reversal, run whole, replaces the cut when it fits better at all.
 //! Variants are swept, and the original weighed, without the end-stop leeway a given joint's
 //! written limits get (`SweepParams::end_stop_travel_fraction`): a range this stage writes ends at
 //! the stop.
@@ -112,11 +113,21 @@ pub(crate) fn correct_failed(
         misfit(scene, j, moving, &moving_points, m) + cut_penalty(joint, j)
     };
     let mut chosen: Option<Correction> = None;
+    // Whether `chosen` cuts the range: the reversal, tried next, still gets its turn.
+    let mut chosen_cut = false;
+    // Tiers still to try after a correction that fits well.
+    let mut tiers_left: Option<usize> = None;
     let later = std::iter::once_with(|| change_tiers(scene, joint, moving, params, nearly_passed));
-    for tier in range_tiers(joint, original)
+    for (t, tier) in range_tiers(joint, original)
         .into_iter()
         .chain(later.flatten())
+        .enumerate()
     {
+        match &mut tiers_left {
+            Some(0) => break,
+            Some(n) => *n -= 1,
+            None => {}
+        }
         // Sweeps are independent: each list runs on all cores, and is read in order.
         let screens = parallel_map(&tier, |variant| {
             sweep(scene, &variant.joint, moving, &screen)
@@ -160,13 +171,25 @@ pub(crate) fn correct_failed(
             .min_by_key(|&i| passing[i].2)
             .unwrap_or(best);
         let (_, fit, k, metrics) = passing.swap_remove(best);
-        let Variant { joint, change } = tier.into_iter().nth(k).expect("index of the tier");
+        let Variant {
+            joint: variant,
+            change,
+        } = tier.into_iter().nth(k).expect("index of the tier");
+        let cut = cut_penalty(joint, &variant) > 0.0;
+        // A range run whole the other way replaces a cut one that it fits better by any margin:
+        // a motion stopped where it first hit something explains the parts less well.
+        let whole_for_cut = chosen_cut
+            && variant.kind == joint.kind
+            && variant.axis_in_object == joint.axis_in_object
+            && variant.pivot_in_object_m == joint.pivot_in_object_m
+            && variant.limits == reversed(joint.limits);
         let change = match &chosen {
             None => format!("{change} (misfit {fit:.2})"),
             Some(earlier)
-                if (turns(joint.kind) == turns(earlier.joint.kind)
+                if (turns(variant.kind) == turns(earlier.joint.kind)
                     || earlier.joint.kind == JointKind::Prismatic)
-                    && fit + MISFIT_MARGIN < earlier.misfit =>
+                    && (fit + MISFIT_MARGIN < earlier.misfit
+                        || whole_for_cut && fit < earlier.misfit) =>
             {
                 format!(
                     "{change} (misfit {fit:.2}, preferred to {})",
@@ -175,15 +198,20 @@ pub(crate) fn correct_failed(
             }
             Some(_) => continue,
         };
-        let done = fit <= MISFIT_MARGIN;
+        chosen_cut = cut;
         chosen = Some(Correction {
-            joint,
+            joint: variant,
             change,
             metrics,
             misfit: fit,
         });
-        if done {
-            break;
+        if fit <= MISFIT_MARGIN {
+            if cut && t == 0 {
+                // The reversal's tier comes next: it is tried, then the search ends.
+                tiers_left = Some(1);
+            } else {
+                break;
+            }
         }
     }
     Ok(chosen)
