@@ -9,7 +9,8 @@
 //! `RunOptions::inferred` (the server is not asked again) and stores what it returns, `verify`
 //! calls [`verify_asset`] with that as `RunOptions::grounded` (no model is asked again) and
 //! stores what it returns, `convert` calls [`run`] with both (`RunOptions::verified`: only export
-//! runs); `uniphys run` calls [`run`].
+//! runs), each on the asset `ingest` stored ([`AssetSource::Ingested`]: the source is parsed
+//! once); `uniphys run` calls [`run`] on the file.
 
 mod cavities;
 mod error;
