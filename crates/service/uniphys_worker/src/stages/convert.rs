@@ -14,7 +14,6 @@ use uniphys_types::{ConvertSummary, DatasetFacts, ServiceStage};
 
 use crate::outputs::{OutputWriter, summary_value};
 use crate::stage::{Stage, StageControl, StageError, StageInput};
-use crate::stages::ground::classify;
 use crate::stages::relay::Relay;
 use crate::stages::upstream::{pipeline_start, stored_grounding, stored_verification};
 
@@ -64,7 +63,7 @@ impl Stage for ConvertStage {
             (None, _) => &PipelineStage::ALL,
         };
         let output = run(asset.source(), &options, &Relay::new(control, stages))
-            .map_err(|e| classify(&e, &asset))?;
+            .map_err(|e| asset.failed(&e))?;
         control.check()?;
         let files = output.artifacts.len();
         for artifact in output.artifacts {

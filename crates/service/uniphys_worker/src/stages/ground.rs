@@ -1,6 +1,6 @@
 //! `ground`: the pipeline's stages up to grounding (ingest, prepare, colliders, ground) on the
-//! asset `ingest` stored, split into the parts of an upstream `decompose` when it split the input, with
-//! the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
+//! asset `ingest` stored, split into the parts of an upstream `decompose` when it split the
+//! input, with the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
 //! configured server itself). The only stage that calls an LVLM; it writes what the grounders
 //! decided (`grounded.json`, a [`GroundedAsset`]), which `verify` checks and `convert` exports,
 //! so a retry of either asks no model again.
@@ -8,13 +8,13 @@
 use std::collections::BTreeSet;
 
 use serde_json::Value;
-use uniphys_pipeline::{PipelineError, RunOptions, Stage as PipelineStage, ground_asset};
+use uniphys_pipeline::{RunOptions, Stage as PipelineStage, ground_asset};
 use uniphys_types::{AssetRecord, GroundSummary, GroundedAsset, Provenance, ServiceStage};
 
 use crate::outputs::{OutputWriter, summary_value};
 use crate::stage::{Stage, StageControl, StageError, StageInput};
 use crate::stages::relay::Relay;
-use crate::stages::upstream::{GROUNDED_FILE, StageAsset, pipeline_start, stored_answers};
+use crate::stages::upstream::{GROUNDED_FILE, pipeline_start, stored_answers};
 
 /// The pipeline stages a `ground` run goes through.
 const GROUND_STAGES: [PipelineStage; 4] = [
@@ -55,7 +55,7 @@ impl Stage for GroundStage {
             &options,
             &Relay::new(control, &GROUND_STAGES),
         )
-        .map_err(|e| classify(&e, &asset))?;
+        .map_err(|e| asset.failed(&e))?;
         control.check()?;
         out.put_json(GROUNDED_FILE, &grounded)?;
         summary_value(&summary_of(&grounded))
@@ -89,15 +89,4 @@ fn providers(record: &AssetRecord) -> Vec<String> {
         })
         .collect();
     names.into_iter().collect()
-}
-
-/// A failure the same run may get past later ([`PipelineError::is_transient`]: a model server
-/// that stayed away) is retried.
-pub(crate) fn classify(error: &PipelineError, asset: &StageAsset) -> StageError {
-    let message = asset.without_local_paths(&format!("the pipeline failed: {error}"));
-    if error.is_transient() {
-        StageError::Transient(message)
-    } else {
-        StageError::Permanent(message)
-    }
 }

@@ -10,7 +10,6 @@ use uniphys_types::{InferSummary, ServiceStage};
 
 use crate::outputs::{OutputWriter, summary_value};
 use crate::stage::{Stage, StageControl, StageError, StageInput};
-use crate::stages::ground::classify;
 use crate::stages::relay::Relay;
 use crate::stages::upstream::{INFERRED_FILE, pipeline_start};
 
@@ -49,7 +48,7 @@ impl Stage for InferStage {
             &options,
             &Relay::new(control, &INFER_STAGES),
         )
-        .map_err(|e| classify(&e, &asset))?;
+        .map_err(|e| asset.failed(&e))?;
         control.check()?;
         let Some(answers) = answers else {
             return summary_value(&InferSummary::default());

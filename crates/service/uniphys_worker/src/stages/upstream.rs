@@ -2,7 +2,7 @@
 //! source is parsed once, by `ingest`), `decompose`'s face-to-part map, `infer`'s model
 //! answers, `ground`'s grounding and `verify`'s verification.
 
-use uniphys_pipeline::{AssetSource, IngestedAsset, ModelAnswers, RunOptions};
+use uniphys_pipeline::{AssetSource, IngestedAsset, ModelAnswers, PipelineError, RunOptions};
 use uniphys_types::{GroundedAsset, ServiceStage, VerifiedAsset};
 
 use crate::source::SourceFile;
@@ -46,6 +46,18 @@ impl StageAsset {
         match self {
             Self::Stored(asset) => AssetSource::Ingested(asset),
             Self::Fetched(file) => AssetSource::File(file.path()),
+        }
+    }
+
+    /// The stage error for a pipeline failure on this asset, told without the worker's
+    /// temporary folder: a failure the same run may get past later
+    /// ([`PipelineError::is_transient`]: a model server that stayed away) is retried.
+    pub(crate) fn failed(&self, error: &PipelineError) -> StageError {
+        let message = self.without_local_paths(&format!("the pipeline failed: {error}"));
+        if error.is_transient() {
+            StageError::Transient(message)
+        } else {
+            StageError::Permanent(message)
         }
     }
 

@@ -9,7 +9,6 @@ use uniphys_types::{ServiceStage, VerifiedAsset, VerifySummary};
 
 use crate::outputs::{OutputWriter, summary_value};
 use crate::stage::{Stage, StageControl, StageError, StageInput};
-use crate::stages::ground::classify;
 use crate::stages::relay::Relay;
 use crate::stages::upstream::{VERIFIED_FILE, pipeline_start, stored_grounding};
 
@@ -51,7 +50,7 @@ impl Stage for VerifyStage {
             &options,
             &Relay::new(control, &AFTER_GROUND),
         )
-        .map_err(|e| classify(&e, &asset))?;
+        .map_err(|e| asset.failed(&e))?;
         control.check()?;
         out.put_json(VERIFIED_FILE, &verified)?;
         summary_value(&summary_of(&verified))
