@@ -1,10 +1,10 @@
 //! The pipeline as queue stages against the pipeline in one `convert`, in the same run: N assets
-//! (the example assets, each moved a little so every file differs) through
-//! `ingest → decompose → infer → ground → verify → convert` and through
-//! `ingest → decompose → convert` (with no `infer`, `ground` or `verify` upstream, `convert` asks
-//! the model, grounds and verifies itself), on one worker with one slot per stage, grounding with
-//! the rule-based UniPhysGen test server on loopback. A share of the `convert` runs fails at the
-//! end of its first attempt, as a worker killed mid-stage would; the queue retries it. Prints wall time and the model requests each graph
+//! (the example assets, each moved a little so every file differs) through `ingest → decompose →
+//! infer → ground → verify → convert` and through `ingest → decompose → convert` (with no `infer`,
+//! `ground` or `verify` upstream, `convert` asks the model, grounds and verifies itself), on one
+//! worker with one slot per stage, grounding with the rule-based UniPhysGen test server on
+//! loopback. A share of the `convert` runs fails at the end of its first attempt, as a worker
+//! killed mid-stage would; the queue retries it. Prints wall time and the model requests each graph
 //! sent. The stage graph has three slots more (its `infer`, `ground` and `verify`), so a worker
 //! runs stages of different assets at once.
 //!

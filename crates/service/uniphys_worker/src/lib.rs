@@ -12,9 +12,9 @@
 //!
 //! Map: [`Stage`] (what a stage is) · [`StageRegistry`] and [`pipeline_job_spec`] (which stages
 //! exist, the graph an asset gets) · [`stages`] (ingest, decompose, infer, ground, verify,
-//! convert, stand-ins) · [`FleetRateLimiter`] (the LVLM client's rate limit over the fleet's Redis bucket)
-//! · [`StoreAnswerCache`] (its answers in the object store) · [`Worker`] (claim loops, reaper,
-//! shutdown) · [`WorkerConfig`].
+//! convert, stand-ins) · [`FleetRateLimiter`] (the LVLM client's rate limit over the fleet's
+//! Redis bucket) · [`StoreAnswerCache`] (its answers in the object store) · [`Worker`] (claim
+//! loops, reaper, shutdown) · [`WorkerConfig`].
 
 mod config;
 mod error;

@@ -93,8 +93,8 @@ impl StageRegistry {
 const PIPELINE_MAX_ATTEMPTS: u32 = 3;
 
 /// The stage graph every submitted asset gets: `ingest` → `decompose` → `infer` → `ground` →
-/// `verify` → `convert` (each later stage also reads the outputs of the earlier ones, so it depends on all
-/// of them).
+/// `verify` → `convert` (each later stage also reads the outputs of the earlier ones, so it
+/// depends on all of them).
 #[must_use]
 pub fn pipeline_job_spec() -> JobSpec {
     let stages = ServiceStage::ALL

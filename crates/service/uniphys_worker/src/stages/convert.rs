@@ -1,12 +1,11 @@
 //! `convert`: export of the verification an upstream `verify` stage stored of the grounding an
-//! upstream `ground` stage stored, on the asset `ingest` stored; writes every exported file (URDF, MJCF,
-//! meshes, record, report) as artifacts. A job submitted before those stages existed has
-//! neither (or only the grounding): the missing stages run here in process, as `uniphys run`
-//! runs them. An asset that fails verification is still written, with `passed: false` in the
-//! summary, exactly as `uniphys run` does. When the job has a `decompose` stage that split the
-//! input, its face-to-part map gives the parts. With a stored grounding no UniPhysGen server or
-//! LVLM is asked, and with a stored verification nothing is verified again: a retry of this
-//! stage repeats neither.
+//! upstream `ground` stage stored, on the asset `ingest` stored; writes every exported file (URDF,
+//! MJCF, meshes, record, report) as artifacts. A job submitted before those stages existed has
+//! neither (or only the grounding): the missing stages run here in process, as `uniphys run` runs
+//! them. An asset that fails verification is still written, with `passed: false` in the summary,
+//! exactly as `uniphys run` does. When the job has a `decompose` stage that split the input, its
+//! face-to-part map gives the parts. With a stored grounding no UniPhysGen server or LVLM is asked,
+//! and with a stored verification nothing is verified again: a retry of this stage repeats neither.
 
 use serde_json::Value;
 use uniphys_pipeline::{RunOptions, Stage as PipelineStage, run};

@@ -1,9 +1,9 @@
 //! `ground`: the pipeline's stages up to grounding (ingest, prepare, colliders, ground) on the
-//! asset `ingest` stored, split into the parts of an upstream `decompose` when it split the
-//! input, with the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
+//! asset `ingest` stored, split into the parts of an upstream `decompose` when it split the input,
+//! with the UniPhysGen answers an upstream `infer` stored (in a job without `infer`, it asks a
 //! configured server itself). The only stage that calls an LVLM; it writes what the grounders
-//! decided (`grounded.json`, a [`GroundedAsset`]), which `verify` checks and `convert` exports,
-//! so a retry of either asks no model again.
+//! decided (`grounded.json`, a [`GroundedAsset`]), which `verify` checks and `convert` exports, so
+//! a retry of either asks no model again.
 
 use std::collections::BTreeSet;
 

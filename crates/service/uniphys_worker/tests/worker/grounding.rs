@@ -1,8 +1,9 @@
 //! The pipeline's stages as stages: `infer` alone calls the UniPhysGen server and stores its
 //! answers, `ground` alone calls the LVLM and stores what the grounders decided, `verify` stores
 //! what it checked and corrected; a `ground`, `verify` or `convert` that fails is retried alone
-//! and asks the model server nothing; a `ground` that fails is retried alone. The models are the rule-based UniPhysGen test server and an LVLM replay
-//! server answering with recorded answers, both on loopback, counting the requests they get.
+//! and asks the model server nothing. The models are the rule-based UniPhysGen test server and
+//! an LVLM replay server answering with recorded answers, both on loopback, counting the
+//! requests they get.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
