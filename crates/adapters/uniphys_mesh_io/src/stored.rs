@@ -78,7 +78,8 @@ struct PartHeader {
 }
 
 impl IngestedAsset {
-    /// The stored form; fails only when a texture's pixels do not match its size.
+    /// The stored form; fails when a texture's pixels do not match its size or the header
+    /// cannot be written.
     pub fn to_bytes(&self) -> IngestResult<Vec<u8>> {
         let asset = &self.loaded.asset;
         let pngs = asset
@@ -127,8 +128,7 @@ impl IngestedAsset {
                 })
                 .collect(),
         };
-        // A header of plain fields and finite numbers always serialises.
-        let header = serde_json::to_vec(&header).unwrap_or_default();
+        let header = serde_json::to_vec(&header).map_err(|e| stored(format!("the header: {e}")))?;
         let pngs_len: usize = pngs.iter().map(Vec::len).sum();
         let mut out = Vec::with_capacity(20 + header.len() + meshes_len(asset) + pngs_len);
         out.extend_from_slice(MAGIC);
