@@ -51,10 +51,12 @@ def start_server(binary: str, data_dir: Path, port: int) -> subprocess.Popen:
     env.update(
         UNIPHYS_DATA_DIR=str(data_dir),
         UNIPHYS_LOG="warn",
-        UNIPHYS_STAND_INS="ingest,decompose,convert",
+        UNIPHYS_STAND_INS="ingest,decompose,infer,ground,verify,convert",
         UNIPHYS_STAND_IN_WORK_MS=env.get("UNIPHYS_STAND_IN_WORK_MS", "20"),
         UNIPHYS_MAX_BACKLOG_PER_TENANT="100000000",
-        UNIPHYS_STAGES=env.get("UNIPHYS_STAGES", "ingest=2,decompose=1,convert=1"),
+        UNIPHYS_STAGES=env.get(
+            "UNIPHYS_STAGES", "ingest=2,decompose=1,infer=1,ground=1,verify=1,convert=1"
+        ),
     )
     server = subprocess.Popen(
         [binary, "serve", "--listen", f"127.0.0.1:{port}"],

@@ -46,6 +46,16 @@ from pathlib import Path
 
 from load_test import free_port, seed  # bench/ is the script's folder, first on sys.path
 
+# The queue's stages in pipeline order (`ServiceStage::ALL`): a worker needs slots for every one, or
+# jobs wait at the first stage without one.
+STAGES = ["ingest", "decompose", "infer", "ground", "verify", "convert"]
+
+
+def stage_slots(n: int) -> str:
+    """`UNIPHYS_STAGES` with n slots of every stage."""
+    return ",".join(f"{stage}={n}" for stage in STAGES)
+
+
 ENTITY_FILES = [
     "model.urdf", "model.xml", "record.json", "report.json", "meta_data.json",
     "annotations/object.json",
@@ -147,7 +157,7 @@ def start_embedded(binary: str, scratch: Path, workers: int, extra: dict[str, st
     data = scratch / "data"
     port = free_port()
     env = dict(os.environ, UNIPHYS_DATA_DIR=str(data), UNIPHYS_LOG="warn",
-               UNIPHYS_STAGES=f"ingest={workers},decompose={workers},convert={workers}", **extra)
+               UNIPHYS_STAGES=stage_slots(workers), **extra)
     for name in ("UNIPHYS_DATABASE_URL", "UNIPHYS_STORAGE_URL", "UNIPHYS_REDIS_URL"):
         env.pop(name, None)
     server = subprocess.Popen([binary, "serve", "--listen", f"127.0.0.1:{port}"], env=env,
@@ -495,7 +505,7 @@ def main() -> int:
                     else:
                         assert servers is not None
                         deployment = start_distributed(binary, run_dir, w, servers, f"real{w}", True,
-                                                       {}, "ingest=1,decompose=1,convert=1")
+                                                       {}, stage_slots(1))
                     try:
                         real_rows.append(real_run(binary, folders, deployment, w, run_dir, baselines[w]))
                     finally:
@@ -507,10 +517,10 @@ def main() -> int:
             assert servers is not None
             run_dir = scratch / "noop"
             run_dir.mkdir(parents=True, exist_ok=True)
-            extra = {"UNIPHYS_STAND_INS": "ingest,decompose,convert", "UNIPHYS_STAND_IN_WORK_MS": "0",
+            extra = {"UNIPHYS_STAND_INS": ",".join(STAGES), "UNIPHYS_STAND_IN_WORK_MS": "0",
                      "UNIPHYS_MAX_BACKLOG_PER_TENANT": "1000000", "UNIPHYS_POLL_MS": "200"}
             deployment = start_distributed(binary, run_dir, 2, servers, "noop", False, extra,
-                                           "ingest=2,decompose=2,convert=2")
+                                           stage_slots(2))
             try:
                 small = noop_batch(binary, deployment, "noop-small", 0, args.noop_small, run_dir)
                 large = noop_batch(binary, deployment, "noop-large", args.noop_small, args.noop_jobs,
