@@ -41,6 +41,9 @@ pub struct StageStatsView {
     pub throughput_per_sec: f64,
     /// How long the oldest claimable run has waited, milliseconds.
     pub oldest_waiting_age_ms: u64,
+    /// No worker serves the stage: its work has been claimable for the whole window and none
+    /// was leased or finished. Start a worker whose `UNIPHYS_STAGES` includes it.
+    pub unserved: bool,
 }
 
 impl From<&StageStats> for StageStatsView {
@@ -58,6 +61,7 @@ impl From<&StageStats> for StageStatsView {
             failed_in_window: s.failed_in_window,
             throughput_per_sec: s.throughput_per_sec(),
             oldest_waiting_age_ms: s.oldest_ready_age_ms,
+            unserved: s.unserved(),
         }
     }
 }

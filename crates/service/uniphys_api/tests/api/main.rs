@@ -61,6 +61,7 @@ cases!(
     ops::the_openapi_document_lists_every_route,
     ops::health_readiness_and_metrics_answer,
     ops::statistics_count_each_stage,
+    ops::a_stage_no_worker_takes_is_flagged_unserved,
     ops::an_unreachable_database_is_503_with_retry_after,
     dashboard::the_overview_counts_the_tenants_jobs_and_keeps_a_history,
     dashboard::the_overview_is_computed_once_per_refresh_for_every_viewer,

@@ -2,9 +2,12 @@
 
 use std::collections::BTreeSet;
 use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 use axum::body::Body;
 use axum::http::{Method, StatusCode, header};
+use serde_json::Value;
+use uniphys_api::ApiConfig;
 use uniphys_queue::Backend;
 
 use crate::harness::{KEY, TestApp};
@@ -162,6 +165,45 @@ pub async fn statistics_count_each_stage(backend: Backend) {
         .send(Method::GET, "/v1/stats", None, &[], Body::empty())
         .await;
     assert_eq!(anonymous.status, StatusCode::UNAUTHORIZED);
+    app.finish().await;
+}
+
+pub async fn a_stage_no_worker_takes_is_flagged_unserved(backend: Backend) {
+    let window = Duration::from_millis(300);
+    let Some(app) = TestApp::open(backend, |c| ApiConfig {
+        stats_window: window,
+        ..c
+    })
+    .await
+    else {
+        return;
+    };
+    app.submitted("a.glb", b"a").await;
+    let unserved = |json: &Value, stage: &str| {
+        json["stages"]
+            .as_array()
+            .expect("stages")
+            .iter()
+            .find(|s| s["stage"] == stage)
+            .unwrap_or_else(|| panic!("{stage} in {json}"))["unserved"]
+            .as_bool()
+            .expect("unserved is a boolean")
+    };
+    let fresh = app.get("/v1/stats").await.json();
+    assert!(
+        !unserved(&fresh, "ingest"),
+        "work newer than the window: {fresh}"
+    );
+    tokio::time::sleep(window + Duration::from_millis(100)).await;
+    let stale = app.get("/v1/stats").await.json();
+    assert!(
+        unserved(&stale, "ingest"),
+        "no worker took ingest work: {stale}"
+    );
+    assert!(
+        !unserved(&stale, "export"),
+        "blocked work waits for ingest, not a worker"
+    );
     app.finish().await;
 }
 

@@ -89,13 +89,26 @@ function renderStages(element, stages, windowSecs = 60) {
     rowProps: (s) => ({ dataset: { stage: s.stage } }),
     cells: (s) => [
       h('th', { scope: 'row', text: s.stage }),
-      h('td', {}, h('span', { class: `badge ${s.paused ? 'state-paused' : 'state-active'}`, text: s.paused ? 'paused' : 'active' })),
+      h('td', {}, claims(s)),
       ...['depth', 'ready', 'backing_off', 'blocked', 'running', 'failed', 'succeeded_in_window', 'failed_in_window']
         .map((field) => h('td', { class: 'num', text: count(s[field]) })),
       h('td', { class: 'num', text: `${num(s.throughput_per_sec)} /s` }),
       h('td', { class: 'num', text: s.oldest_waiting_age_ms ? duration(s.oldest_waiting_age_ms) : '—' }),
     ],
   });
+}
+
+/** Whether a stage's claims are paused, served, or not taken by any worker. */
+function claims(s) {
+  if (s.paused) return h('span', { class: 'badge state-paused', text: 'paused' });
+  if (s.unserved) {
+    return h('span', {
+      class: 'badge state-unserved',
+      text: 'no worker',
+      title: 'Work has waited the whole window and no worker took any: start a worker whose UNIPHYS_STAGES includes this stage.',
+    });
+  }
+  return h('span', { class: 'badge state-active', text: 'active' });
 }
 
 function renderTenant(element, tenant) {

@@ -48,6 +48,20 @@ impl StageStats {
             0.0
         }
     }
+
+    /// Whether no worker serves the stage: work has been claimable for the whole window, yet no
+    /// run of it is leased and none finished in the window, and claims are not paused. A
+    /// worker takes only the stages it is given (`UNIPHYS_STAGES`), so a deployment without a
+    /// slot for one stage leaves its jobs waiting there without any error; this says so.
+    #[must_use]
+    pub fn unserved(&self) -> bool {
+        !self.paused
+            && self.ready > 0
+            && self.running == 0
+            && self.succeeded_in_window == 0
+            && self.failed_in_window == 0
+            && u128::from(self.oldest_ready_age_ms) >= self.window.as_millis()
+    }
 }
 
 static STATES: Sql = Sql::new(
@@ -122,4 +136,76 @@ fn entry(
         window,
         ..StageStats::default()
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Work claimable for the whole minute-long window, nothing leased or finished.
+    fn waiting() -> StageStats {
+        StageStats {
+            stage_name: "infer".into(),
+            ready: 3,
+            oldest_ready_age_ms: 60_000,
+            window: Duration::from_secs(60),
+            ..StageStats::default()
+        }
+    }
+
+    #[test]
+    fn a_stage_whose_work_waits_the_whole_window_untouched_is_unserved() {
+        assert!(waiting().unserved());
+    }
+
+    #[test]
+    fn a_stage_that_is_worked_on_paused_or_only_just_waiting_is_served() {
+        let cases = [
+            (
+                "a run is leased",
+                StageStats {
+                    running: 1,
+                    ..waiting()
+                },
+            ),
+            (
+                "a run succeeded",
+                StageStats {
+                    succeeded_in_window: 1,
+                    ..waiting()
+                },
+            ),
+            (
+                "an attempt failed",
+                StageStats {
+                    failed_in_window: 1,
+                    ..waiting()
+                },
+            ),
+            (
+                "claims are paused",
+                StageStats {
+                    paused: true,
+                    ..waiting()
+                },
+            ),
+            (
+                "nothing is claimable",
+                StageStats {
+                    ready: 0,
+                    ..waiting()
+                },
+            ),
+            (
+                "the work is newer than the window",
+                StageStats {
+                    oldest_ready_age_ms: 59_999,
+                    ..waiting()
+                },
+            ),
+        ];
+        for (why, stats) in cases {
+            assert!(!stats.unserved(), "{why}");
+        }
+    }
 }
