@@ -19,7 +19,9 @@
 //! cabinet's face); a correction that fits well ends the search. A joint that nearly passed keeps
 //! its axis: its range changes, or, when that fits the parts poorly (a door reversed about its
 //! handle's edge), its pivot; a failure late in the range is cut before the range is reversed,
-//! and the reversal, run whole, replaces the cut when it fits better at all.
+//! and the reversal, run whole, replaces the cut when it fits better at all. A round part turned
+//! part-way about its own line (it moves nothing) keeps the line: it is made a spin, or, if that
+//! fails, a slide along it.
 //! Variants are swept, and the original weighed, without the end-stop leeway a given joint's
 //! written limits get (`SweepParams::end_stop_travel_fraction`): a range this stage writes ends at
 //! the stop.
@@ -117,7 +119,16 @@ pub(crate) fn correct_failed(
     let mut chosen_cut = false;
     // Tiers still to try after a correction that fits well.
     let mut tiers_left: Option<usize> = None;
-    let later = std::iter::once_with(|| change_tiers(scene, joint, moving, params, nearly_passed));
+    // A round part turned part-way about its own line moves nothing: that line is right and the
+    // kind of motion wrong, so only the other kinds about it are tried.
+    let round_part_way = original.turned_round_part_way(params).is_some();
+    let later = std::iter::once_with(|| {
+        if round_part_way {
+            round_part_tiers(scene, joint)
+        } else {
+            change_tiers(scene, joint, moving, params, nearly_passed)
+        }
+    });
     for (t, tier) in range_tiers(joint, original)
         .into_iter()
         .chain(later.flatten())
@@ -469,16 +480,7 @@ fn change_tiers(
     let mut tier = Vec::new();
     match joint.kind {
         JointKind::Revolute | JointKind::Continuous => {
-            let (lo, hi) = projection_range(&child_points, axis);
-            for fraction in SLIDE_TRAVEL_FRACTIONS {
-                let travel = fraction * (hi - lo);
-                for (l, h) in [(0.0, travel), (-travel, 0.0)] {
-                    tier.push(Variant {
-                        joint: with(JointKind::Prismatic, axis, pivot, range(l, h)),
-                        change: format!("made a slide along the axis, range [{l:.4}, {h:.4}]"),
-                    });
-                }
-            }
+            tier.extend(slide_tier(scene, joint, axis, pivot));
         }
         JointKind::Prismatic => {
             let quarter = std::f64::consts::FRAC_PI_2;
@@ -498,6 +500,39 @@ fn change_tiers(
     }
     tiers.push(tier);
     tiers
+}
+
+/// The variants of a revolute `joint` that turns a part round about its line part-way, a tier
+/// each: a spin about the same line (a knob; the smaller change, since it still turns), then
+/// slides along it both ways (a round button pushed into its hole), tried only when the spin
+/// fails. A round knob and a round button sitting on a panel look alike to a sweep (each can be
+/// pushed a few millimetres into it), so a turn is kept a turn rather than made a press.
+fn round_part_tiers(scene: &Scene, joint: &Joint) -> Vec<Vec<Variant>> {
+    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
+    let pivot = DVec3::from_array(joint.pivot_in_object_m);
+    let spin = Variant {
+        joint: changed(joint, JointKind::Continuous, axis, pivot, None),
+        change: "made a spin about the same line".to_owned(),
+    };
+    vec![vec![spin], slide_tier(scene, joint, axis, pivot)]
+}
+
+/// A turning `joint` made a slide along `axis`, both ways, over [`SLIDE_TRAVEL_FRACTIONS`] of
+/// its part's extent along it (largest first).
+fn slide_tier(scene: &Scene, joint: &Joint, axis: DVec3, pivot: DVec3) -> Vec<Variant> {
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
+    let (lo, hi) = projection_range(&child_points, axis);
+    let mut tier = Vec::new();
+    for fraction in SLIDE_TRAVEL_FRACTIONS {
+        let travel = fraction * (hi - lo);
+        for (l, h) in [(0.0, travel), (-travel, 0.0)] {
+            tier.push(Variant {
+                joint: changed(joint, JointKind::Prismatic, axis, pivot, range(l, h)),
+                change: format!("made a slide along the axis, range [{l:.4}, {h:.4}]"),
+            });
+        }
+    }
+    tier
 }
 
 /// Variants of a joint (`make` gives it for an axis) along each of `axes`, both ways, that

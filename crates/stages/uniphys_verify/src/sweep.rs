@@ -6,6 +6,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
+use crate::fit::spin_residual;
 use crate::handle::{axis_across_panel, handle_on_hinge, is_broad_sheet};
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
@@ -21,6 +22,10 @@ use crate::slide_side::{SlideSide, slide_side};
 use crate::slot::walled_sides;
 use crate::sweep_params::SweepParams;
 use crate::{VerifyError, VerifyResult};
+
+/// A revolute joint limited to less than this range turns its part part-way, radians (a half
+/// turn; a knob's stop lets it turn most of a full one).
+const PART_WAY_TURN_MAX_RAD: f64 = std::f64::consts::PI;
 
 /// What a sweep measured.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,6 +147,10 @@ pub struct SweepMetrics {
     /// Continuous joints whose moving parts are round about another line than the joint's
     /// ([`OffRoundSpin`]); `None` otherwise.
     pub off_round_spin: Option<OffRoundSpin>,
+    /// Revolute joints limited to less than a half turn: the moving parts' roundness residual
+    /// about the joint's line (`fit::spin_residual`, a share of their diagonal); `None`
+    /// otherwise.
+    pub part_way_round_residual: Option<f64>,
     /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
     /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
     pub short_slide_side: Option<SlideSide>,
@@ -320,6 +329,7 @@ pub fn sweep(
         hinge_slot_walled_sides: 0,
         in_plane_turn: None,
         off_round_spin: None,
+        part_way_round_residual: None,
         short_slide_side: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
@@ -379,6 +389,17 @@ pub fn sweep(
             motion.pivot_in_object_m,
             rest_contact_m(params, moving_diagonal_m, diag),
         );
+    }
+    if joint.kind == JointKind::Revolute
+        && joint
+            .limits
+            .is_some_and(|l| l.upper - l.lower < PART_WAY_TURN_MAX_RAD)
+    {
+        metrics.part_way_round_residual = Some(spin_residual(
+            &moving_points,
+            motion.axis_in_object,
+            motion.pivot_in_object_m,
+        ));
     }
     if joint.kind == JointKind::Continuous {
         metrics.off_round_spin = off_round_spin(

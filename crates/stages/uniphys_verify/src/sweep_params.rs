@@ -129,6 +129,13 @@ pub struct SweepParams {
     /// share of its diagonal (true continuous joints of real objects: at most 0.04, spouts that
     /// are round about no line aside; wheels and knobs flipped about a diameter: 0.07 to 0.19).
     pub off_round_residual_min: f64,
+    /// A revolute joint limited to less than a half turn fails when its moving parts are round
+    /// about its line: their roundness residual there at most this share of their diagonal. A
+    /// round part turned part-way lands on itself and moves nothing; a knob spins (continuous,
+    /// or nearly a full turn: an oven's knobs turn 330 degrees), a round button or cap is
+    /// pushed or lifted along the line (true revolute joints of real objects turned less than a
+    /// half turn: 0.07 and more; round buttons and caps turned a quarter: at most 0.03).
+    pub part_way_round_residual_max: f64,
     /// A joint fails when it takes a moving part below the ground the object stands on (its
     /// lowest point at rest in the service frame, Z up) by more than this fraction of the object
     /// diagonal (true joints of real objects: at most 1.5 %, a stapler's pressed arm aside;
@@ -174,6 +181,7 @@ impl Default for SweepParams {
             in_plane_round_max: 0.1,
             in_plane_sandwiched_share_min: 0.5,
             off_round_residual_min: 0.06,
+            part_way_round_residual_max: 0.03,
             below_ground_fraction_max: 0.05,
             seed: 7,
         }

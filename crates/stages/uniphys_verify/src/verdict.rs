@@ -21,6 +21,9 @@ impl SweepMetrics {
     ///   axis nor held across both faces (a door spun about its corner over the cabinet's front);
     /// - continuous joints: a part round about one line spins about another (a wheel flipped
     ///   about its diameter);
+    /// - hinges (revolute) limited to less than a half turn: the part is round about the axis
+    ///   (`part_way_round_residual_max`), so turned it lands on itself and moves nothing (a
+    ///   round button or cap given a quarter turn);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than
     ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
@@ -83,6 +86,12 @@ impl SweepMetrics {
                 p.x,
                 p.y,
                 p.z
+            ));
+        }
+        if let Some(residual) = self.turned_round_part_way(params) {
+            reasons.push(format!(
+                "turns a part round about its axis less than a half turn: turned, it lands {residual:.3} of its diagonal from itself (at most {:.3} counts as round), so it moves nothing; a knob spins, a round button or cap is pushed or lifted along the axis",
+                params.part_way_round_residual_max
             ));
         }
         if let Some(f) = self.hinge_at_handle(params) {
@@ -286,6 +295,9 @@ impl SweepMetrics {
         if let Some(spin) = self.spun_off_round(params) {
             s = s.max(2.0 + spin.residual / params.off_round_residual_min.max(1e-12));
         }
+        if let Some(residual) = self.turned_round_part_way(params) {
+            s = s.max(3.0 - residual / params.part_way_round_residual_max.max(1e-12));
+        }
         if self.long_slide_unheld(params)
             || self.short_slide_wrong_way(params).is_some()
             || self.hinge_in_slot(params)
@@ -363,6 +375,12 @@ impl SweepMetrics {
         self.off_round_spin.filter(|s| {
             self.kind == JointKind::Continuous && s.residual > params.off_round_residual_min
         })
+    }
+
+    /// A revolute joint turns a part round about its line less than a half turn: the residual.
+    pub(crate) fn turned_round_part_way(&self, params: &SweepParams) -> Option<f64> {
+        self.part_way_round_residual
+            .filter(|&r| r <= params.part_way_round_residual_max)
     }
 
     /// The moving parts went deeper below the ground than allowed.
@@ -527,6 +545,10 @@ impl SweepMetrics {
                     ("off_round_round_residual".to_owned(), s.round_residual),
                 ]
             }))
+            .chain(
+                self.part_way_round_residual
+                    .map(|r| ("part_way_round_residual".to_owned(), r)),
+            )
             .chain(self.short_slide_side.into_iter().flat_map(|s| {
                 [
                     ("short_slide_surround_share".to_owned(), s.surround_share),

@@ -216,3 +216,78 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
     let o = object("kitchen-7236");
     o.assert_sideways_caught_and_restored(o.movable()[0], "like a clock hand");
 }
+
+// A stove's round knobs spin without limit (true joints). Made revolute joints a quarter turn,
+// each lands on itself and moves nothing: caught, and spun about the same line again, a turn
+// kept a turn (the sweep would also let each be pushed a few millimetres into the panel).
+#[test]
+fn stove_knobs_turned_only_a_quarter_are_caught_and_spun_about_the_same_line() {
+    let o = object("kitchen-101921");
+    let knobs: Vec<usize> = o
+        .movable()
+        .into_iter()
+        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Continuous)
+        .collect();
+    assert!(knobs.len() >= 2, "the stove has knobs");
+    for i in knobs {
+        let truth = o.joints[i].clone();
+        let quarter = uniphys_types::Joint {
+            kind: uniphys_types::JointKind::Revolute,
+            limits: Some(uniphys_types::JointLimits {
+                lower: 0.0,
+                upper: std::f64::consts::FRAC_PI_2,
+            }),
+            ..truth.clone()
+        };
+        let verdict = o.caught(i, quarter);
+        assert!(
+            verdict.message.contains("less than a half turn"),
+            "{}",
+            verdict.message
+        );
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, uniphys_types::JointKind::Continuous, "{change}");
+        assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
+        assert_eq!(fixed.pivot_in_object_m, truth.pivot_in_object_m, "{change}");
+    }
+}
+
+// A dishwasher's round push buttons, each turned a quarter turn about the line it is pushed
+// along through its centre (as verify-bench's "prismatic made revolute" does): turned, a round
+// button lands on itself, so nothing collides and the sweep alone passed it. Caught, and not
+// flipped about its rim: turned about the same line, as a spin (a push and a spin of a round
+// part look alike to a sweep; the correction keeps a turn a turn).
+#[test]
+fn round_buttons_turned_part_way_about_their_line_are_caught_and_kept_on_it() {
+    let o = object("kitchen-12428");
+    let buttons: Vec<usize> = o
+        .movable()
+        .into_iter()
+        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Prismatic)
+        .collect();
+    assert_eq!(buttons.len(), 4, "the dishwasher has four buttons");
+    for i in buttons {
+        let truth = o.joints[i].clone();
+        let part = o.scene.points_of(&[truth.child.0 as usize]);
+        let centre = part.iter().sum::<DVec3>() / part.len() as f64;
+        let turned = uniphys_types::Joint {
+            kind: uniphys_types::JointKind::Revolute,
+            pivot_in_object_m: centre.to_array(),
+            limits: Some(uniphys_types::JointLimits {
+                lower: 0.0,
+                upper: std::f64::consts::FRAC_PI_2,
+            }),
+            ..truth.clone()
+        };
+        let verdict = o.caught(i, turned);
+        assert!(
+            verdict.message.contains("less than a half turn"),
+            "{}",
+            verdict.message
+        );
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, uniphys_types::JointKind::Continuous, "{change}");
+        assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
+        assert_eq!(fixed.pivot_in_object_m, centre.to_array(), "{change}");
+    }
+}
