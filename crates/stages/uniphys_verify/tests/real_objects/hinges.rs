@@ -2,6 +2,7 @@
 //! knob spun about a diameter) are caught and turned about the true line again.
 
 use uniphys_geometry::DVec3;
+use uniphys_types::JointKind;
 
 use crate::support::{assert_restored_to_true_line, object, part_diagonal, sideways};
 
@@ -223,32 +224,11 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
 #[test]
 fn stove_knobs_turned_only_a_quarter_are_caught_and_spun_about_the_same_line() {
     let o = object("kitchen-101921");
-    let knobs: Vec<usize> = o
-        .movable()
-        .into_iter()
-        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Continuous)
-        .collect();
+    let knobs = o.movable_of(JointKind::Continuous);
     assert!(knobs.len() >= 2, "the stove has knobs");
     for i in knobs {
-        let truth = o.joints[i].clone();
-        let quarter = uniphys_types::Joint {
-            kind: uniphys_types::JointKind::Revolute,
-            limits: Some(uniphys_types::JointLimits {
-                lower: 0.0,
-                upper: std::f64::consts::FRAC_PI_2,
-            }),
-            ..truth.clone()
-        };
-        let verdict = o.caught(i, quarter);
-        assert!(
-            verdict.message.contains("less than a half turn"),
-            "{}",
-            verdict.message
-        );
-        let (fixed, change) = verdict.correction.expect("corrected");
-        assert_eq!(fixed.kind, uniphys_types::JointKind::Continuous, "{change}");
-        assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
-        assert_eq!(fixed.pivot_in_object_m, truth.pivot_in_object_m, "{change}");
+        let pivot = DVec3::from_array(o.joints[i].pivot_in_object_m);
+        o.assert_part_way_round_turn_spun(i, pivot);
     }
 }
 
@@ -260,34 +240,11 @@ fn stove_knobs_turned_only_a_quarter_are_caught_and_spun_about_the_same_line() {
 #[test]
 fn round_buttons_turned_part_way_about_their_line_are_caught_and_kept_on_it() {
     let o = object("kitchen-12428");
-    let buttons: Vec<usize> = o
-        .movable()
-        .into_iter()
-        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Prismatic)
-        .collect();
+    let buttons = o.movable_of(JointKind::Prismatic);
     assert_eq!(buttons.len(), 4, "the dishwasher has four buttons");
     for i in buttons {
-        let truth = o.joints[i].clone();
-        let part = o.scene.points_of(&[truth.child.0 as usize]);
+        let part = o.scene.points_of(&[o.joints[i].child.0 as usize]);
         let centre = part.iter().sum::<DVec3>() / part.len() as f64;
-        let turned = uniphys_types::Joint {
-            kind: uniphys_types::JointKind::Revolute,
-            pivot_in_object_m: centre.to_array(),
-            limits: Some(uniphys_types::JointLimits {
-                lower: 0.0,
-                upper: std::f64::consts::FRAC_PI_2,
-            }),
-            ..truth.clone()
-        };
-        let verdict = o.caught(i, turned);
-        assert!(
-            verdict.message.contains("less than a half turn"),
-            "{}",
-            verdict.message
-        );
-        let (fixed, change) = verdict.correction.expect("corrected");
-        assert_eq!(fixed.kind, uniphys_types::JointKind::Continuous, "{change}");
-        assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
-        assert_eq!(fixed.pivot_in_object_m, centre.to_array(), "{change}");
+        o.assert_part_way_round_turn_spun(i, centre);
     }
 }

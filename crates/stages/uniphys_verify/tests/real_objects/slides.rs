@@ -28,11 +28,7 @@ fn a_drawer_pushed_in_or_sliding_sideways_is_caught_and_put_back() {
 #[test]
 fn a_button_slid_across_its_face_is_caught() {
     let o = object("kitchen-12428");
-    let buttons: Vec<usize> = o
-        .movable()
-        .into_iter()
-        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Prismatic)
-        .collect();
+    let buttons = o.movable_of(uniphys_types::JointKind::Prismatic);
     assert!(!buttons.is_empty(), "the dishwasher has buttons");
     for i in buttons {
         let truth = o.joints[i].clone();

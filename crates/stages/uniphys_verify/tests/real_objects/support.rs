@@ -6,7 +6,7 @@ use uniphys_geometry::{
     Aabb, ConvexParams, DVec3, TriMesh, convex_decomposition, parallel_map, projection_range,
 };
 use uniphys_mesh_io::{IngestOptions, load_asset};
-use uniphys_types::{CheckOutcome, Joint, JointLimits, Provenance};
+use uniphys_types::{CheckOutcome, Joint, JointKind, JointLimits, Provenance};
 use uniphys_verify::{JointVerdict, Scene, SweepParams, verify_joint};
 
 // A camera's shutter button is written to travel 5 mm; it meets the bottom of its socket in the
@@ -49,6 +49,40 @@ impl Object {
         (0..self.joints.len())
             .filter(|&i| self.joints[i].kind.is_movable())
             .collect()
+    }
+
+    /// The movable joints of kind `kind`.
+    pub(crate) fn movable_of(&self, kind: JointKind) -> Vec<usize> {
+        self.movable()
+            .into_iter()
+            .filter(|&i| self.joints[i].kind == kind)
+            .collect()
+    }
+
+    /// Joint `i` made a revolute joint a quarter turn about its own axis through `pivot` (a
+    /// round part, turned part-way about the line it is round about) is caught as moving
+    /// nothing and corrected to a spin about the same line.
+    pub(crate) fn assert_part_way_round_turn_spun(&self, i: usize, pivot: DVec3) {
+        let truth = &self.joints[i];
+        let quarter = Joint {
+            kind: JointKind::Revolute,
+            pivot_in_object_m: pivot.to_array(),
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: std::f64::consts::FRAC_PI_2,
+            }),
+            ..truth.clone()
+        };
+        let verdict = self.caught(i, quarter);
+        assert!(
+            verdict.message.contains("less than a half turn"),
+            "{}",
+            verdict.message
+        );
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, JointKind::Continuous, "{change}");
+        assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
+        assert_eq!(fixed.pivot_in_object_m, pivot.to_array(), "{change}");
     }
 
     /// Verifies joint `i` of `joints` (correction on).
@@ -105,7 +139,7 @@ impl Object {
         let axis = DVec3::from_array(truth.axis_in_object).normalize();
         let (lo, hi) = projection_range(&self.scene.points_of(&[truth.child.0 as usize]), axis);
         let slide = Joint {
-            kind: uniphys_types::JointKind::Prismatic,
+            kind: JointKind::Prismatic,
             limits: Some(JointLimits {
                 lower: 0.0,
                 upper: 0.5 * (hi - lo),
