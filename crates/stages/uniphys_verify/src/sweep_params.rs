@@ -134,8 +134,8 @@ pub struct SweepParams {
     /// round part turned part-way lands on itself and moves nothing; a knob spins (continuous,
     /// or nearly a full turn: an oven's knobs turn 330 degrees), a round button or cap is
     /// pushed or lifted along the line (true revolute joints of the shared real objects limited
-    /// to less than a half turn: 0.05 for a faucet's switch, 0.07 and more for doors; every one
-    /// of their 44 buttons, caps and lids turned a quarter about its own line: at most 0.03).
+    /// to less than a half turn: 0.05 for a faucet's switch, 0.07 and more for doors; each of
+    /// their 31 round buttons and lids turned a quarter about its own line: at most 0.03).
     pub part_way_round_residual_max: f64,
     /// A joint fails when it takes a moving part below the ground the object stands on (its
     /// lowest point at rest in the service frame, Z up) by more than this fraction of the object
