@@ -47,16 +47,9 @@ struct Header {
     units: InputUnits,
     declared_category: Option<String>,
     joints: Vec<Joint>,
-    materials: Vec<MaterialHeader>,
+    materials: Vec<SurfaceMaterial>,
     textures: Vec<TextureHeader>,
     parts: Vec<PartHeader>,
-}
-
-#[derive(Serialize, Deserialize)]
-struct MaterialHeader {
-    name: String,
-    base_color_rgba: [f32; 4],
-    base_color_texture: Option<usize>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -95,15 +88,7 @@ impl IngestedAsset {
             units: self.loaded.facts.units,
             declared_category: self.loaded.facts.declared_category.clone(),
             joints: asset.joints.clone(),
-            materials: asset
-                .materials
-                .iter()
-                .map(|m| MaterialHeader {
-                    name: m.name.clone(),
-                    base_color_rgba: m.base_color_rgba,
-                    base_color_texture: m.base_color_texture,
-                })
-                .collect(),
+            materials: asset.materials.clone(),
             textures: asset
                 .textures
                 .iter()
@@ -207,15 +192,7 @@ impl IngestedAsset {
                 r.remaining()
             )));
         }
-        let materials: Vec<SurfaceMaterial> = header
-            .materials
-            .into_iter()
-            .map(|m| SurfaceMaterial {
-                name: m.name,
-                base_color_rgba: m.base_color_rgba,
-                base_color_texture: m.base_color_texture,
-            })
-            .collect();
+        let materials = header.materials;
         if let Some(m) = materials
             .iter()
             .find(|m| m.base_color_texture.is_some_and(|t| t >= textures.len()))

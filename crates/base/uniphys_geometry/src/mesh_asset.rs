@@ -17,7 +17,7 @@ pub struct Texture {
 }
 
 /// The visual material of a surface, as far as the pipeline uses it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SurfaceMaterial {
     /// Material name from the input (`""` if it had none).
     pub name: String,
