@@ -117,8 +117,8 @@ pub(crate) fn correct_failed(
     let mut chosen: Option<Correction> = None;
     // Whether `chosen` cuts the range: the reversal, tried next, still gets its turn.
     let mut chosen_cut = false;
-    // Tiers still to try after a correction that fits well.
-    let mut tiers_left: Option<usize> = None;
+    // The last tier to try after a correction that fits well.
+    let mut last_tier: Option<usize> = None;
     // A round part turned part-way about its own line moves nothing: that line is right and the
     // kind of motion wrong, so only the other kinds about it are tried.
     let round_part_way = original.turned_round_part_way(params).is_some();
@@ -134,10 +134,8 @@ pub(crate) fn correct_failed(
         .chain(later.flatten())
         .enumerate()
     {
-        match &mut tiers_left {
-            Some(0) => break,
-            Some(n) => *n -= 1,
-            None => {}
+        if last_tier.is_some_and(|last| t > last) {
+            break;
         }
         // Sweeps are independent: each list runs on all cores, and is read in order.
         let screens = parallel_map(&tier, |variant| {
@@ -219,7 +217,7 @@ pub(crate) fn correct_failed(
         if fit <= MISFIT_MARGIN {
             if cut && t == 0 {
                 // The reversal's tier comes next: it is tried, then the search ends.
-                tiers_left = Some(1);
+                last_tier = Some(t + 1);
             } else {
                 break;
             }
@@ -480,7 +478,7 @@ fn change_tiers(
     let mut tier = Vec::new();
     match joint.kind {
         JointKind::Revolute | JointKind::Continuous => {
-            tier.extend(slide_tier(scene, joint, axis, pivot));
+            tier.extend(slide_tier(joint, &child_points, axis, pivot));
         }
         JointKind::Prismatic => {
             let quarter = std::f64::consts::FRAC_PI_2;
@@ -514,14 +512,14 @@ fn round_part_tiers(scene: &Scene, joint: &Joint) -> Vec<Vec<Variant>> {
         joint: changed(joint, JointKind::Continuous, axis, pivot, None),
         change: "made a spin about the same line".to_owned(),
     };
-    vec![vec![spin], slide_tier(scene, joint, axis, pivot)]
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
+    vec![vec![spin], slide_tier(joint, &child_points, axis, pivot)]
 }
 
 /// A turning `joint` made a slide along `axis`, both ways, over [`SLIDE_TRAVEL_FRACTIONS`] of
-/// its part's extent along it (largest first).
-fn slide_tier(scene: &Scene, joint: &Joint, axis: DVec3, pivot: DVec3) -> Vec<Variant> {
-    let child_points = scene.points_of(&[joint.child.0 as usize]);
-    let (lo, hi) = projection_range(&child_points, axis);
+/// its part's extent along it (sampled at `child_points`; largest first).
+fn slide_tier(joint: &Joint, child_points: &[DVec3], axis: DVec3, pivot: DVec3) -> Vec<Variant> {
+    let (lo, hi) = projection_range(child_points, axis);
     let mut tier = Vec::new();
     for fraction in SLIDE_TRAVEL_FRACTIONS {
         let travel = fraction * (hi - lo);

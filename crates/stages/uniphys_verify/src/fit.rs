@@ -20,8 +20,9 @@ use crate::scene::Scene;
 use crate::sweep::SweepMetrics;
 
 /// A revolute joint whose range exceeds this may spin in place (a knob turned 330 degrees): the
-/// line its part is round about is tried as a correction.
-const SPIN_RANGE_MIN_RAD: f64 = PI;
+/// line its part is round about is tried as a correction. One limited to less turns its part
+/// part-way, which moves nothing when the part is round about the line (`sweep`).
+pub(crate) const SPIN_RANGE_MIN_RAD: f64 = PI;
 /// Angles the part is turned by to measure its roundness about an axis.
 const SPIN_ANGLES_RAD: [f64; 5] = [PI / 3.0, 2.0 * PI / 3.0, PI, 4.0 * PI / 3.0, 5.0 * PI / 3.0];
 /// Most samples turned per angle (every k-th of the part's).

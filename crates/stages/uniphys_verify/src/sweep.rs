@@ -6,7 +6,7 @@ use uniphys_types::{Joint, JointKind};
 
 use crate::contact_reference::ContactReference;
 use crate::crossing::Crossings;
-use crate::fit::spin_residual;
+use crate::fit::{SPIN_RANGE_MIN_RAD, spin_residual};
 use crate::handle::{axis_across_panel, handle_on_hinge, is_broad_sheet};
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
@@ -22,10 +22,6 @@ use crate::slide_side::{SlideSide, slide_side};
 use crate::slot::walled_sides;
 use crate::sweep_params::SweepParams;
 use crate::{VerifyError, VerifyResult};
-
-/// A revolute joint limited to less than this range turns its part part-way, radians (a half
-/// turn; a knob's stop lets it turn most of a full one).
-const PART_WAY_TURN_MAX_RAD: f64 = std::f64::consts::PI;
 
 /// What a sweep measured.
 #[derive(Debug, Clone, PartialEq)]
@@ -393,7 +389,7 @@ pub fn sweep(
     if joint.kind == JointKind::Revolute
         && joint
             .limits
-            .is_some_and(|l| l.upper - l.lower < PART_WAY_TURN_MAX_RAD)
+            .is_some_and(|l| l.upper - l.lower < SPIN_RANGE_MIN_RAD)
     {
         metrics.part_way_round_residual = Some(spin_residual(
             &moving_points,
