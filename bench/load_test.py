@@ -29,6 +29,16 @@ import threading
 import time
 from pathlib import Path
 
+# The queue's stages in pipeline order (`ServiceStage::ALL`): a worker needs slots for every one, or
+# jobs wait at the first stage without one (the dashboard then says "no worker").
+STAGES = ["ingest", "decompose", "infer", "ground", "verify", "convert"]
+
+
+def stage_slots(n: int, **more: int) -> str:
+    """`UNIPHYS_STAGES` with n slots of every stage, or as many as `more` names."""
+    return ",".join(f"{stage}={more.get(stage, n)}" for stage in STAGES)
+
+
 ENDPOINTS = [
     ("/v1/stats", "statistics computed per request (baseline)"),
     # The dashboard asks for the samples after its last one; `{recent}` is 10 s before wrk starts.
@@ -51,12 +61,10 @@ def start_server(binary: str, data_dir: Path, port: int) -> subprocess.Popen:
     env.update(
         UNIPHYS_DATA_DIR=str(data_dir),
         UNIPHYS_LOG="warn",
-        UNIPHYS_STAND_INS="ingest,decompose,infer,ground,verify,convert",
+        UNIPHYS_STAND_INS=",".join(STAGES),
         UNIPHYS_STAND_IN_WORK_MS=env.get("UNIPHYS_STAND_IN_WORK_MS", "20"),
         UNIPHYS_MAX_BACKLOG_PER_TENANT="100000000",
-        UNIPHYS_STAGES=env.get(
-            "UNIPHYS_STAGES", "ingest=2,decompose=1,infer=1,ground=1,verify=1,convert=1"
-        ),
+        UNIPHYS_STAGES=env.get("UNIPHYS_STAGES", stage_slots(1, ingest=2)),
     )
     server = subprocess.Popen(
         [binary, "serve", "--listen", f"127.0.0.1:{port}"],

@@ -44,16 +44,8 @@ import urllib.parse
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from load_test import free_port, seed  # bench/ is the script's folder, first on sys.path
-
-# The queue's stages in pipeline order (`ServiceStage::ALL`): a worker needs slots for every one, or
-# jobs wait at the first stage without one.
-STAGES = ["ingest", "decompose", "infer", "ground", "verify", "convert"]
-
-
-def stage_slots(n: int) -> str:
-    """`UNIPHYS_STAGES` with n slots of every stage."""
-    return ",".join(f"{stage}={n}" for stage in STAGES)
+# bench/ is the script's folder, first on sys.path.
+from load_test import STAGES, free_port, seed, stage_slots
 
 
 ENTITY_FILES = [
