@@ -40,17 +40,15 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use uniphys_geometry::{Aabb, DVec3, parallel_map, projection_range};
 use uniphys_types::{Joint, JointKind};
 pub(crate) use uniphys_verify::PartBox;
-use uniphys_verify::{Scene, SweepMetrics, SweepParams, sweep};
+use uniphys_verify::{SMALL_PART_FRACTION, Scene, SweepMetrics, SweepParams, sweep};
 
 use crate::articulate::builtin_joint;
 use crate::hinge_range::{closed_side, hinge_range};
 use crate::hypotheses::{extent_along, mean};
-use crate::small_part::{pushed_not_turned, small_part_motion};
+use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
 use crate::stem::{stem, twist_joint};
 
-/// A part whose box diagonal is under this fraction of its parent's is pushed (a button).
-const SMALL_PART_FRACTION: f64 = 0.2;
 /// A part whose thinnest box extent is under this fraction of the middle one is a panel (a
 /// door, a lid, a screen): it hinges first, slides only when it cannot hinge.
 const THIN_RATIO: f64 = 0.15;
@@ -141,7 +139,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
     let spin = spin_axis(scene, mover.child, &child_points, part, inward);
     let button =
-        small && spin.is_some_and(|s| pushed_not_turned(scene, mover.parent, &child_points, &s));
+        small && spin.is_some_and(|s| s.pressed_not_turned(scene, mover.parent, &child_points));
     if let Some(spin) = spin.filter(|_| !button) {
         return Motion {
             joint: Some(joint(

@@ -6,24 +6,14 @@
 //! wheel with a tread can be a few degrees off its true axis. The tilt decides whether the part
 //! is round; the axis stays the candidate when the tilt is small.
 
-use uniphys_geometry::{DQuat, DVec3, principal_axes, projection_range};
-use uniphys_verify::Scene;
+use uniphys_geometry::{DQuat, DVec3, principal_axes};
+use uniphys_verify::{
+    ON_SURFACE_FRACTION, RoundAxis, Scene, across, centre_about, kept_about_line,
+};
 
 use crate::hypotheses::extent_along;
 use crate::motion_search::PartBox;
 
-/// Turns at which the part is compared with itself, radians (30, 75 and 130 degrees): no
-/// rectangle or square maps onto itself at any of them, a round part does at all.
-const TURNS_RAD: [f64; 3] = [
-    std::f64::consts::FRAC_PI_6,
-    5.0 * std::f64::consts::PI / 12.0,
-    13.0 * std::f64::consts::PI / 18.0,
-];
-/// A turned sample is back on the part when it lies within this fraction of the part's
-/// diagonal of the part's own surface.
-const ON_SURFACE_FRACTION: f64 = 0.02;
-/// Samples at least this share of the farthest sample's distance from the axis are judged.
-const OUTER_RADIUS_FRACTION: f64 = 0.5;
 /// Share of the turned samples that must be back on the part at every turn.
 const KEPT_FRACTION_MIN: f64 = 0.85;
 /// A refined axis within this angle of its candidate (cosine of 15 degrees) is the candidate.
@@ -31,45 +21,9 @@ const SNAP_COS: f64 = 0.965_925_8;
 /// Tilts tried around the best candidate axis, radians (3 and 1 degrees).
 const TILTS_RAD: [f64; 2] = [0.052_359_88, 0.017_453_29];
 
-/// An axis the part is round about.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Spin {
-    /// Unit axis, object frame.
-    pub axis: DVec3,
-    /// A point on it: the middle of the part's extent across and along the axis, object frame.
-    pub centre: DVec3,
-    /// The smallest share of turned samples back on the part over the test turns.
-    pub kept_fraction: f64,
-    /// The part's largest extent across the axis, metres.
-    pub width_m: f64,
-    /// The part's extent along the axis over [`Self::width_m`]: a squat part (a button, a dial)
-    /// is low, a stub (a knob to pinch, a bottle) high.
-    pub length_over_width: f64,
-}
-
-/// Two unit vectors completing `axis` to an orthonormal frame.
-pub(crate) fn across(axis: DVec3) -> (DVec3, DVec3) {
-    let u = axis.any_orthonormal_vector();
-    (u, axis.cross(u))
-}
-
-/// The centre of the points' box in the frame of `axis`.
-fn centre_about(points: &[DVec3], axis: DVec3) -> DVec3 {
-    let (u, v) = across(axis);
-    [axis, u, v]
-        .iter()
-        .map(|d| {
-            let (lo, hi) = projection_range(points, *d);
-            *d * (0.5 * (lo + hi))
-        })
-        .sum()
-}
-
-/// The smallest share of the outer `points` (at least [`OUTER_RADIUS_FRACTION`] of the farthest
-/// one's distance from the axis) that land back on the part's surface over the test turns.
-/// Only the outer samples are judged: a turn barely moves those near the axis, and on a flat
-/// part (a door, a lid) the faces' samples stay on the faces whatever its outline; the outline
-/// is what a turn tests.
+/// The smallest share of the outer `points` that land back on the part's surface over the
+/// test turns about the line along `axis` through the middle of the points' box
+/// ([`kept_about_line`]).
 fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tolerance: f64) -> f64 {
     kept_about_line(
         scene,
@@ -79,38 +33,6 @@ fn kept_fraction(scene: &Scene, part: usize, points: &[DVec3], axis: DVec3, tole
         centre_about(points, axis),
         tolerance,
     )
-}
-
-/// [`kept_fraction`] about the line along `axis` through `centre`.
-fn kept_about_line(
-    scene: &Scene,
-    part: usize,
-    points: &[DVec3],
-    axis: DVec3,
-    centre: DVec3,
-    tolerance: f64,
-) -> f64 {
-    let radius = |p: &DVec3| (*p - centre).reject_from_normalized(axis).length();
-    let farthest = points.iter().map(radius).fold(0.0, f64::max);
-    let outer: Vec<DVec3> = points
-        .iter()
-        .filter(|p| radius(p) >= OUTER_RADIUS_FRACTION * farthest)
-        .copied()
-        .collect();
-    TURNS_RAD
-        .iter()
-        .map(|&angle| {
-            let turn = DQuat::from_axis_angle(axis, angle);
-            let on = outer
-                .iter()
-                .filter(|p| {
-                    let turned = centre + turn * (**p - centre);
-                    scene.distance_to_surface_m(part, turned) <= tolerance
-                })
-                .count();
-            on as f64 / outer.len().max(1) as f64
-        })
-        .fold(1.0, f64::min)
 }
 
 /// How round `part` (sampled at `points`, its box `part_box`) is about the line along `axis`
@@ -145,7 +67,7 @@ pub(crate) fn spin_axis(
     points: &[DVec3],
     part_box: &PartBox,
     prefer: DVec3,
-) -> Option<Spin> {
+) -> Option<RoundAxis> {
     if points.len() < 16 {
         return None;
     }
@@ -185,7 +107,7 @@ pub(crate) fn spin_axis(
     let (u, v) = across(axis);
     let extent = |d: DVec3| extent_along(points, d);
     let width_m = extent(u).max(extent(v));
-    Some(Spin {
+    Some(RoundAxis {
         axis,
         centre: centre_about(points, axis),
         kept_fraction: kept,

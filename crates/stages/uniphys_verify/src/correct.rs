@@ -20,8 +20,9 @@
 //! its axis: its range changes, or, when that fits the parts poorly (a door reversed about its
 //! handle's edge), its pivot; a failure late in the range is cut before the range is reversed,
 //! and the reversal, run whole, replaces the cut when it fits better at all. A round part turned
-//! part-way about its own line (it moves nothing) keeps the line: it is made a spin, or, if that
-//! fails, a slide along it.
+//! part-way about its own line (it moves nothing) keeps the line: a button (small, squat and
+//! smooth on a face of its parent) is made a slide along it, any other round part a spin about
+//! it, and the other kind is tried when that fails.
 //! Variants are swept, and the original weighed, without the end-stop leeway a given joint's
 //! written limits get (`SweepParams::end_stop_travel_fraction`): a range this stage writes ends at
 //! the stop.
@@ -32,8 +33,10 @@ use uniphys_types::{Joint, JointKind, JointLimits};
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
 use crate::fit::{may_spin, misfit, round_axis};
-use crate::held::{contact_normal_tensor, slide_touch_m};
+use crate::held::{contact_normal_tensor, mean, slide_touch_m};
 use crate::in_plane::held_pivots;
+use crate::part_box::PartBox;
+use crate::round_axis::{RoundAxis, centre_about, push_travel_m};
 use crate::rounded_ends::rounded_end_pivots;
 use crate::scene::Scene;
 use crate::sweep::{SweepMetrics, sweep};
@@ -66,6 +69,11 @@ const MISFIT_MARGIN: f64 = 0.15;
 /// Slide travel tried when a turn becomes a slide, as fractions of the part's extent along the
 /// axis (largest first: the range is as far as the part can go).
 const SLIDE_TRAVEL_FRACTIONS: [f64; 3] = [0.8, 0.5, 0.25];
+
+/// Presses tried for a round button turned part-way, as fractions of the grounder's stroke
+/// ([`push_travel_m`]): the whole stroke, and half of it for a button whose half depth already
+/// reaches into the face behind it.
+const PRESS_STROKE_FRACTIONS: [f64; 2] = [1.0, 0.5];
 
 /// One way of changing a joint.
 struct Variant {
@@ -501,19 +509,46 @@ fn change_tiers(
 }
 
 /// The variants of a revolute `joint` that turns a part round about its line part-way, a tier
-/// each: a spin about the same line (a knob; the smaller change, since it still turns), then
-/// slides along it both ways (a round button pushed into its hole), tried only when the spin
-/// fails. A round knob and a round button sitting on a panel look alike to a sweep (each can be
-/// pushed a few millimetres into it), so a turn is kept a turn rather than made a press.
+/// each, both kept on that line. A round knob and a round button sitting on a panel look alike
+/// to a sweep (each can be pushed a few millimetres into it), so the part's shape decides, as it
+/// does for the grounder ([`RoundAxis::pressed`]): a small part, squat and smooth all round on a
+/// face of its parent, which a hand has nothing to turn by, is a button, pressed into its parent
+/// as the grounder presses one ([`push_travel_m`]), then spun if that fails; any other (a knob
+/// with a grip, a cap, a lid) is spun, then slid along the line both ways if that fails.
 fn round_part_tiers(scene: &Scene, joint: &Joint) -> Vec<Vec<Variant>> {
     let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
     let pivot = DVec3::from_array(joint.pivot_in_object_m);
-    let spin = Variant {
+    let spin = vec![Variant {
         joint: changed(joint, JointKind::Continuous, axis, pivot, None),
         change: "made a spin about the same line".to_owned(),
-    };
-    let child_points = scene.points_of(&[joint.child.0 as usize]);
-    vec![vec![spin], slide_tier(joint, &child_points, axis, pivot)]
+    }];
+    let (child, parent) = (joint.child.0 as usize, joint.parent.0 as usize);
+    let child_points = scene.points_of(&[child]);
+    let diagonal_m = PartBox::of(&child_points).diagonal;
+    let middle = centre_about(&child_points, axis);
+    let round = RoundAxis::about_line(scene, child, &child_points, diagonal_m, axis, middle);
+    if !round.pressed(scene, parent, &child_points, diagonal_m) {
+        return vec![spin, slide_tier(joint, &child_points, axis, pivot)];
+    }
+    let (lo, hi) = projection_range(&child_points, axis);
+    let stroke = push_travel_m(hi - lo, round.width_m);
+    let inward = (mean(&scene.samples[parent]) - mean(&child_points)).dot(axis);
+    let press = PRESS_STROKE_FRACTIONS
+        .iter()
+        .map(|fraction| {
+            let travel = fraction * stroke;
+            let limits = if inward >= 0.0 {
+                range(0.0, travel)
+            } else {
+                range(-travel, 0.0)
+            };
+            Variant {
+                joint: changed(joint, JointKind::Prismatic, axis, pivot, limits),
+                change: format!("made a press along the same line into its parent, {travel:.4} m"),
+            }
+        })
+        .collect();
+    vec![press, spin]
 }
 
 /// A turning `joint` made a slide along `axis`, both ways, over [`SLIDE_TRAVEL_FRACTIONS`] of
@@ -523,6 +558,10 @@ fn slide_tier(joint: &Joint, child_points: &[DVec3], axis: DVec3, pivot: DVec3) 
     let mut tier = Vec::new();
     for fraction in SLIDE_TRAVEL_FRACTIONS {
         let travel = fraction * (hi - lo);
+        // A part drawn without thickness along the axis gives no travel to read.
+        if travel <= f64::EPSILON * (hi.abs() + lo.abs()).max(1.0) {
+            continue;
+        }
         for (l, h) in [(0.0, travel), (-travel, 0.0)] {
             tier.push(Variant {
                 joint: changed(joint, JointKind::Prismatic, axis, pivot, range(l, h)),

@@ -46,6 +46,7 @@ mod part_box;
 mod patch;
 mod penetration;
 mod plausibility;
+mod round_axis;
 mod rounded_ends;
 mod scene;
 mod slide_side;
@@ -70,6 +71,10 @@ pub use off_round::OffRoundSpin;
 pub use part_box::PartBox;
 pub use patch::{PatchParams, grow_patch};
 pub use plausibility::plausibility_checks;
+pub use round_axis::{
+    ON_SURFACE_FRACTION, RoundAxis, SMALL_PART_FRACTION, across, centre_about, kept_about_line,
+    push_travel_m,
+};
 pub use rounded_ends::rounded_end_pivots;
 pub use scene::{Scene, moving_group};
 pub use slide_side::SlideSide;

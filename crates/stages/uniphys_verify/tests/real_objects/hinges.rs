@@ -1,10 +1,10 @@
 //! Turning joints about the wrong line (axis turned, pivot moved, a hinge beside its handle, a
 //! knob spun about a diameter) are caught and turned about the true line again.
 
-use uniphys_geometry::DVec3;
-use uniphys_types::JointKind;
+use uniphys_geometry::{DVec3, projection_range};
+use uniphys_types::{Joint, JointKind, JointLimits};
 
-use crate::support::{assert_restored_to_true_line, object, part_diagonal, sideways};
+use crate::support::{CAMERA, assert_restored_to_true_line, object, part_diagonal, sideways};
 
 // A door turned a quarter about a point of its hinge line swings like a flap along its bottom
 // edge, freely and with its handle halfway out: only the handle's bar, which runs along the
@@ -219,8 +219,9 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
 }
 
 // A stove's round knobs spin without limit (true joints). Made revolute joints a quarter turn,
-// each lands on itself and moves nothing: caught, and spun about the same line again, a turn
-// kept a turn (the sweep would also let each be pushed a few millimetres into the panel).
+// each lands on itself and moves nothing: caught, and spun about the same line again. The sweep
+// would also let each be pushed a few millimetres into the panel; what keeps a knob turning is
+// its shape (its outline is round only up to a grip: a hand can turn it).
 #[test]
 fn stove_knobs_turned_only_a_quarter_are_caught_and_spun_about_the_same_line() {
     let o = object("kitchen-101921");
@@ -235,16 +236,68 @@ fn stove_knobs_turned_only_a_quarter_are_caught_and_spun_about_the_same_line() {
 // A dishwasher's round push buttons, each turned a quarter turn about the line it is pushed
 // along through its centre (as verify-bench's "prismatic made revolute" does): turned, a round
 // button lands on itself, so nothing collides and the sweep alone passed it. Caught, and not
-// flipped about its rim: turned about the same line, as a spin (a push and a spin of a round
-// part look alike to a sweep; the correction keeps a turn a turn).
+// flipped about its rim: kept on the same line and pressed into the dishwasher, since each is
+// small, squat and smooth all round on the panel's face (a hand has nothing to turn it by, the
+// grounder's reading of a button).
 #[test]
-fn round_buttons_turned_part_way_about_their_line_are_caught_and_kept_on_it() {
+fn round_buttons_turned_part_way_about_their_line_are_caught_and_pressed_along_it() {
     let o = object("kitchen-12428");
     let buttons = o.movable_of(JointKind::Prismatic);
     assert_eq!(buttons.len(), 4, "the dishwasher has four buttons");
     for i in buttons {
         let part = o.scene.points_of(&[o.joints[i].child.0 as usize]);
         let centre = part.iter().sum::<DVec3>() / part.len() as f64;
-        o.assert_part_way_round_turn_spun(i, centre);
+        o.assert_part_way_round_turn_pressed(i, centre);
+    }
+}
+
+// A camera's round buttons drawn as a single flat surface (no depth along their axis), each
+// turned a quarter turn about its own line: pressed into the body by a tenth of the button's
+// width, as the grounder presses a flat button, not written as a slide of zero length.
+#[test]
+fn flat_round_buttons_turned_part_way_are_pressed_by_a_stroke_of_their_own() {
+    let o = object(CAMERA);
+    let flat: Vec<usize> = o
+        .movable_of(JointKind::Prismatic)
+        .into_iter()
+        .filter(|&i| {
+            let part = o.scene.points_of(&[o.joints[i].child.0 as usize]);
+            let (lo, hi) = projection_range(&part, DVec3::from_array(o.joints[i].axis_in_object));
+            hi - lo < 1e-6
+        })
+        .collect();
+    assert!(flat.len() >= 2, "the camera has flat buttons");
+    for i in flat {
+        let part = o.scene.points_of(&[o.joints[i].child.0 as usize]);
+        let centre = part.iter().sum::<DVec3>() / part.len() as f64;
+        let verdict = o.caught(
+            i,
+            Joint {
+                kind: JointKind::Revolute,
+                pivot_in_object_m: centre.to_array(),
+                limits: Some(JointLimits {
+                    lower: 0.0,
+                    upper: std::f64::consts::FRAC_PI_2,
+                }),
+                ..o.joints[i].clone()
+            },
+        );
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, JointKind::Prismatic, "{change}");
+        let range = fixed.limits.expect("range");
+        let stroke = range.upper - range.lower;
+        let diagonal = part_diagonal(&o, o.joints[i].child.0);
+        assert!(stroke > 0.01 * diagonal, "{change}: a stroke of {stroke} m");
+        // Into the body, the way the true joint goes.
+        let travel = if range.upper > -range.lower {
+            range.upper
+        } else {
+            range.lower
+        };
+        let truth = o.joints[i].limits.expect("range");
+        assert!(
+            travel * truth.upper > 0.0,
+            "{change}: pressed the other way"
+        );
     }
 }

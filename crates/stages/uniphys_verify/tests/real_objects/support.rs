@@ -61,8 +61,8 @@ impl Object {
 
     /// Joint `i` made a revolute joint a quarter turn about its own axis through `pivot` (a
     /// round part, turned part-way about the line it is round about) is caught as moving
-    /// nothing and corrected to a spin about the same line.
-    pub(crate) fn assert_part_way_round_turn_spun(&self, i: usize, pivot: DVec3) {
+    /// nothing; the correction keeps the line and is returned.
+    fn part_way_round_turn_corrected(&self, i: usize, pivot: DVec3) -> (Joint, String) {
         let truth = &self.joints[i];
         let quarter = Joint {
             kind: JointKind::Revolute,
@@ -80,9 +80,35 @@ impl Object {
             verdict.message
         );
         let (fixed, change) = verdict.correction.expect("corrected");
-        assert_eq!(fixed.kind, JointKind::Continuous, "{change}");
         assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
         assert_eq!(fixed.pivot_in_object_m, pivot.to_array(), "{change}");
+        (fixed, change)
+    }
+
+    /// [`Self::part_way_round_turn_corrected`], corrected to a spin about the same line.
+    pub(crate) fn assert_part_way_round_turn_spun(&self, i: usize, pivot: DVec3) {
+        let (fixed, change) = self.part_way_round_turn_corrected(i, pivot);
+        assert_eq!(fixed.kind, JointKind::Continuous, "{change}");
+    }
+
+    /// [`Self::part_way_round_turn_corrected`], corrected to a press along the same line the
+    /// way the true joint goes, by at most the part's depth along it.
+    pub(crate) fn assert_part_way_round_turn_pressed(&self, i: usize, pivot: DVec3) {
+        let truth = &self.joints[i];
+        let (fixed, change) = self.part_way_round_turn_corrected(i, pivot);
+        assert_eq!(fixed.kind, JointKind::Prismatic, "{change}");
+        let (range, true_range) = (fixed.limits.expect("range"), truth.limits.expect("range"));
+        let travel = |l: JointLimits| if l.upper > -l.lower { l.upper } else { l.lower };
+        assert!(
+            travel(range) * travel(true_range) > 0.0,
+            "{change}: pressed the other way from the true {true_range:?}"
+        );
+        let part = self.scene.points_of(&[truth.child.0 as usize]);
+        let (lo, hi) = projection_range(&part, DVec3::from_array(truth.axis_in_object));
+        assert!(
+            travel(range).abs() <= hi - lo,
+            "{change}: deeper than the part"
+        );
     }
 
     /// Verifies joint `i` of `joints` (correction on).
