@@ -86,7 +86,7 @@ pub struct PartMassModel {
 
 /// The part as walls along its surface (at most [`wall_thickness_m`] thick) plus the
 /// `interior_fill` share of what they enclose (the closed solid, or the hulls of an open part;
-/// all of it for parts under [`SOLID_PART_SIZE_M`]). A closed part keeps its solid when that is
+/// all of it for parts under 5 cm across). A closed part keeps its solid when that is
 /// less (a panel modelled with its real thickness) or when the object's kind is unknown (a
 /// closed mesh is then taken at its word, as the solid it bounds). Without wall samples (no
 /// area) the solid stands.

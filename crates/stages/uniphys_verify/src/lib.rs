@@ -21,8 +21,8 @@
 //!   region its parent holds on both faces ([`articulation_candidates`], [`edge_pivots`],
 //!   [`band_pivots`], [`rounded_end_pivots`], [`held_pivots`]), also used by grounders to
 //!   enumerate hypotheses, and the line a spinning part is round about; corrections compared by
-//!   how well they fit the part
-//!   (`fit`);
+//!   how well they fit the part (`fit`); a round part's shape about a line and whether a hand
+//!   would press it or turn it ([`RoundAxis`]), which the grounder asks too;
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
 //! Distance thresholds are fractions of the object's diagonal or of the parts involved, so

@@ -187,7 +187,7 @@ pub fn centre_about(points: &[DVec3], axis: DVec3) -> DVec3 {
         .sum()
 }
 
-/// The smallest share of the outer `points` of `part` (at least [`OUTER_RADIUS_FRACTION`] of the
+/// The smallest share of the outer `points` of `part` (at least half of the
 /// farthest one's distance from the line along `axis` through `centre`) that land back within
 /// `tolerance_m` of the part's surface over the test turns about that line. Only the outer
 /// samples are judged: a turn barely moves those near the axis, and on a flat part (a door, a
