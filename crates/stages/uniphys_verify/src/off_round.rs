@@ -9,7 +9,7 @@
 
 use uniphys_geometry::{DVec3, projection_range};
 
-use crate::fit::{ROUND_RESIDUAL_MAX, spin_residual};
+use crate::fit::ROUND_RESIDUAL_MAX;
 use crate::held::farthest_from_line_m;
 use crate::scene::Scene;
 
@@ -34,24 +34,24 @@ pub struct OffRoundSpin {
 /// and no rule should reject.
 const OFF_ROUND_COS_MAX: f64 = 0.5;
 
-/// The spin of the moving group (parts `moving_parts`, sampled at `moving`) about the
-/// line through `pivot` along `axis` against the line it is round about, or `None` when it is
-/// round about the joint's line (a residual at most `residual_min`), about no line at all,
-/// about a line near the joint's ([`OFF_ROUND_COS_MAX`]), or longer along that line than
-/// across it (a rod, or a knob merged with a bar by a rough decomposition).
+/// The spin of the moving group (parts `moving_parts`, sampled at `moving`) about the joint's
+/// line along `axis`, where its roundness residual is `residual` (`fit::spin_residual`),
+/// against the line it is round about, or `None` when it is round about the joint's line (a
+/// residual at most `residual_min`), about no line at all, about a line near the joint's
+/// ([`OFF_ROUND_COS_MAX`]), or longer along that line than across it (a rod, or a knob merged
+/// with a bar by a rough decomposition).
 pub(crate) fn off_round_spin(
     scene: &Scene,
     moving_parts: &[usize],
     moving: &[DVec3],
     axis: DVec3,
-    pivot: DVec3,
+    residual: f64,
     residual_min: f64,
 ) -> Option<OffRoundSpin> {
     let axis = axis.normalize_or_zero();
     if moving.len() < 3 || axis == DVec3::ZERO {
         return None;
     }
-    let residual = spin_residual(moving, axis, pivot);
     if residual <= residual_min.max(ROUND_RESIDUAL_MAX) {
         return None;
     }
@@ -76,6 +76,7 @@ mod tests {
     use uniphys_geometry::TriMesh;
 
     use super::*;
+    use crate::fit::spin_residual;
 
     /// A closed cylinder (a wheel) of radius 0.3 and width 0.1 about the y axis through
     /// `centre`.
@@ -109,9 +110,11 @@ mod tests {
         let centre = DVec3::new(0.5, -0.2, 0.3);
         let s = Scene::of_convex_parts(&[wheel(centre)], 2000);
         let points = s.points_of(&[0]);
-        assert!(off_round_spin(&s, &[0], &points, DVec3::Y, centre, 0.06).is_none());
+        let along_axle = spin_residual(&points, DVec3::Y, centre);
+        assert!(off_round_spin(&s, &[0], &points, DVec3::Y, along_axle, 0.06).is_none());
+        let across = spin_residual(&points, DVec3::Z, centre);
         let flipped =
-            off_round_spin(&s, &[0], &points, DVec3::Z, centre, 0.06).expect("flipped wheel");
+            off_round_spin(&s, &[0], &points, DVec3::Z, across, 0.06).expect("flipped wheel");
         assert!(flipped.residual > 0.06, "{flipped:?}");
         assert!(flipped.round_axis.dot(DVec3::Y).abs() > 0.99, "{flipped:?}");
         let off_line = (flipped.round_point - centre)
@@ -133,7 +136,8 @@ mod tests {
         let s = Scene::of_convex_parts(&[TriMesh::new(positions, triangles).expect("spout")], 2000);
         let points = s.points_of(&[0]);
         let collar = DVec3::new(0.02, 0.02, 0.0);
-        assert!(off_round_spin(&s, &[0], &points, DVec3::Z, collar, 0.06).is_none());
-        assert!(spin_residual(&points, DVec3::Z, collar) > 0.06);
+        let residual = spin_residual(&points, DVec3::Z, collar);
+        assert!(residual > 0.06);
+        assert!(off_round_spin(&s, &[0], &points, DVec3::Z, residual, 0.06).is_none());
     }
 }

@@ -147,6 +147,9 @@ pub struct SweepMetrics {
     /// about the joint's line (`fit::spin_residual`, a share of their diagonal); `None`
     /// otherwise.
     pub part_way_round_residual: Option<f64>,
+    /// Continuous joints: the moving parts' roundness residual about the joint's line (as
+    /// [`Self::part_way_round_residual`]); `None` otherwise. Round about it, they turn in place.
+    pub spin_round_residual: Option<f64>,
     /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
     /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
     pub short_slide_side: Option<SlideSide>,
@@ -326,6 +329,7 @@ pub fn sweep(
         in_plane_turn: None,
         off_round_spin: None,
         part_way_round_residual: None,
+        spin_round_residual: None,
         short_slide_side: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
@@ -398,12 +402,18 @@ pub fn sweep(
         ));
     }
     if joint.kind == JointKind::Continuous {
+        let residual = spin_residual(
+            &moving_points,
+            motion.axis_in_object,
+            motion.pivot_in_object_m,
+        );
+        metrics.spin_round_residual = Some(residual);
         metrics.off_round_spin = off_round_spin(
             scene,
             moving,
             &moving_points,
             motion.axis_in_object,
-            motion.pivot_in_object_m,
+            residual,
             params.off_round_residual_min,
         );
     }

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use uniphys_types::JointKind;
 
+use crate::fit::ROUND_RESIDUAL_MAX;
 use crate::in_plane::InPlaneTurn;
 use crate::off_round::OffRoundSpin;
 use crate::slide_side::SlideSide;
@@ -25,8 +26,9 @@ impl SweepMetrics {
     ///   (`part_way_round_residual_max`), so turned it lands on itself and moves nothing (a
     ///   round button or cap given a quarter turn);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
-    ///   or severe overlap change (more than
-    ///   `bad_overlap_fraction_max` of steps below `overlap_min` and the 10th percentile too);
+    ///   or severe overlap change (more than `bad_overlap_fraction_max` of steps below
+    ///   `overlap_min` and the 10th percentile too; not for a spin of a part round about its
+    ///   line, which turns in place);
     /// - short slides: the part moves away from its parent (a button pulled out), or across the
     ///   face it sits on (neither pressing into it nor guided by walls);
     /// - hinges (revolute): the part sits in a slot along the axis (walled in on
@@ -38,11 +40,12 @@ impl SweepMetrics {
     /// - hinges (revolute): the moving colliders sink into the still ones by more than
     ///   `hinge_sink_mean_max` penetration tolerances on average over the sweep (a door swung
     ///   into its own hollow cabinet, which no surface crossing shows when the door is inset);
-    /// - rotational joints: the 95th percentile thickness ratio above `thickness_ratio_max` (a
-    ///   door turned into a hollow cabinet crosses nothing: its rim, in contact with the frame at
-    ///   rest, sinks past it and the contact thickens; a slide's points move along straight lines,
-    ///   so anything it passes through is a crossing measured across the crossed plane, while its
-    ///   contact, spread over rails and frame in several planes, thickens and thins as it slides);
+    /// - rotational joints but a spin in place: the 95th percentile thickness ratio above
+    ///   `thickness_ratio_max` (a door turned into a hollow cabinet crosses nothing: its rim, in
+    ///   contact with the frame at rest, sinks past it and the contact thickens; a slide's points
+    ///   move along straight lines, so anything it passes through is a crossing measured across
+    ///   the crossed plane, while its contact, spread over rails and frame in several planes,
+    ///   thickens and thins as it slides);
     /// - any joint: more than `crossing_fraction_max` of the moving surface clear of other parts
     ///   at rest passes through another part's surface (where it crosses inside the space the
     ///   moving parts filled at rest, only deeper than a short slide's travel counts: what
@@ -57,7 +60,6 @@ impl SweepMetrics {
         if self.initial_contact_points == 0 {
             reasons.push("the moving part does not touch its parent at rest".to_owned());
         }
-        let rotational = self.rotational();
         if self.hinge_off_part() {
             reasons.push(format!(
                 "the axis passes {:.4} m from the moving part (at most {:.4} m): nothing holds it",
@@ -125,7 +127,7 @@ impl SweepMetrics {
                 self.overlap_ratio_p10, self.bad_overlap_fraction
             ));
         }
-        if rotational && self.thickness_ratio_p95 > params.thickness_ratio_max {
+        if self.contact_change_judged() && self.thickness_ratio_p95 > params.thickness_ratio_max {
             reasons.push(format!(
                 "severe contact thickness change: p95 ratio = {:.2}",
                 self.thickness_ratio_p95
@@ -247,13 +249,12 @@ impl SweepMetrics {
             return 10.0;
         }
         let steps = self.steps.max(1) as f64;
-        let rotational = self.rotational();
         let mut s = self.crossed_before_end_stops() / params.crossing_fraction_max;
         if self.crossed_fraction > params.crossing_fraction_max {
             // Crossing at an end stop passes with no margin left.
             s = s.max(1.0);
         }
-        if rotational {
+        if self.contact_change_judged() {
             s = s.max(self.thickness_ratio_p95 / params.thickness_ratio_max);
         }
         if self.short_slide_gap_max_m > 0.0 {
@@ -320,11 +321,22 @@ impl SweepMetrics {
         matches!(self.kind, JointKind::Revolute | JointKind::Continuous)
     }
 
+    /// A turning joint whose contact with its parent is judged for change (thickening,
+    /// overlap lost): every one but a spin of a part round about its line, which turns in place
+    /// and lands on itself, so its contact can change only where its outline is not round (a
+    /// wheel's spokes passing the fork that holds its axle).
+    fn contact_change_judged(&self) -> bool {
+        self.rotational()
+            && !self
+                .spin_round_residual
+                .is_some_and(|r| r <= ROUND_RESIDUAL_MAX)
+    }
+
     /// A turning joint's contact changed severely: more than `bad_overlap_fraction_max` of its
     /// contact steps overlap the rest contact less than `overlap_min`, and its 10th percentile
     /// does too.
     fn severe_overlap_change(&self, params: &SweepParams) -> bool {
-        self.rotational()
+        self.contact_change_judged()
             && self.contact_steps > 0
             && self.bad_overlap_fraction > params.bad_overlap_fraction_max
             && self.overlap_ratio_p10 < params.overlap_min
@@ -548,6 +560,10 @@ impl SweepMetrics {
             .chain(
                 self.part_way_round_residual
                     .map(|r| ("part_way_round_residual".to_owned(), r)),
+            )
+            .chain(
+                self.spin_round_residual
+                    .map(|r| ("spin_round_residual".to_owned(), r)),
             )
             .chain(self.short_slide_side.into_iter().flat_map(|s| {
                 [
