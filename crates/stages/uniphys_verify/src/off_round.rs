@@ -59,14 +59,21 @@ pub(crate) fn off_round_spin(
     let across = round_axis.dot(axis).abs() < OFF_ROUND_COS_MAX;
     // A disc or a drum (a wheel, a knob, a cap) is no longer along its round axis than across
     // it; a rod is round about its length, and turned across it swings as a lever does.
-    let (lo, hi) = projection_range(moving, round_axis);
-    let squat = hi - lo <= 2.0 * farthest_from_line_m(moving, round_point, round_axis);
-    (across && squat).then_some(OffRoundSpin {
+    (across && squat_about(moving, round_point, round_axis)).then_some(OffRoundSpin {
         residual,
         round_residual,
         round_axis,
         round_point,
     })
+}
+
+/// Whether the part sampled at `points` is a disc or a drum about the line through `point`
+/// along unit `axis`: no longer along it than across it (a wheel, a knob, a cap, a button), as
+/// a rod, a lever or a blade along the line is. A part's roundness residual is a share of its
+/// diagonal, so a thin part along the line seems round about it whatever its section.
+pub(crate) fn squat_about(points: &[DVec3], point: DVec3, axis: DVec3) -> bool {
+    let (lo, hi) = projection_range(points, axis);
+    hi - lo <= 2.0 * farthest_from_line_m(points, point, axis)
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use crate::held::{
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
-use crate::off_round::{OffRoundSpin, off_round_spin};
+use crate::off_round::{OffRoundSpin, off_round_spin, squat_about};
 use crate::part_box::Boxed;
 use crate::patch::{PosedTree, grow_patch};
 use crate::scene::Scene;
@@ -143,9 +143,10 @@ pub struct SweepMetrics {
     /// Continuous joints whose moving parts are round about another line than the joint's
     /// ([`OffRoundSpin`]); `None` otherwise.
     pub off_round_spin: Option<OffRoundSpin>,
-    /// Revolute joints limited to less than a half turn: the moving parts' roundness residual
-    /// about the joint's line (`fit::spin_residual`, a share of their diagonal); `None`
-    /// otherwise.
+    /// Revolute joints limited to less than a half turn whose moving parts are no longer along
+    /// the joint's line than across it (a disc or a drum, not a rod or a blade along it): their
+    /// roundness residual about that line (`fit::spin_residual`, a share of their diagonal);
+    /// `None` otherwise.
     pub part_way_round_residual: Option<f64>,
     /// Continuous joints: the moving parts' roundness residual about the joint's line (as
     /// [`Self::part_way_round_residual`]); `None` otherwise. Round about it, they turn in place.
@@ -394,6 +395,11 @@ pub fn sweep(
         && joint
             .limits
             .is_some_and(|l| l.upper - l.lower < SPIN_RANGE_MIN_RAD)
+        && squat_about(
+            &moving_points,
+            motion.pivot_in_object_m,
+            motion.axis_in_object,
+        )
     {
         metrics.part_way_round_residual = Some(spin_residual(
             &moving_points,

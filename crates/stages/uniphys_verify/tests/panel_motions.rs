@@ -236,3 +236,22 @@ fn a_laptop_turned_onto_a_corner_is_judged_against_no_ground() {
         "{reasons:?}"
     );
 }
+
+#[test]
+fn a_thin_strip_hinged_along_its_length_is_a_flap_not_a_round_part_turned_part_way() {
+    // A strip 1 long, 2 cm wide and 2 mm thick lying on a block, hinged along its long edge a
+    // quarter turn (a sliver a rough decomposition cut off a knife's blade). Turned about that
+    // line it stays within its width of itself, a small share of its length: as round, by its
+    // diagonal, as a button is. It is a flap: no longer across the line than along it, it is
+    // no disc or drum, and the part-way turn rule does not judge it.
+    let s = scene(vec![
+        TriMesh::cuboid(DVec3::new(0.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.0)),
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.02, 0.002)),
+    ]);
+    let (metrics, reasons) = judge(&s, &hinge([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 0.0, FRAC_PI_2));
+    assert!(metrics.part_way_round_residual.is_none(), "{metrics:?}");
+    assert!(
+        !reasons.iter().any(|r| r.contains("less than a half turn")),
+        "{reasons:?}"
+    );
+}
