@@ -138,8 +138,7 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     let parent_diagonal = Aabb::from_points(&parent_points).diagonal();
     let small = part.diagonal < SMALL_PART_FRACTION * parent_diagonal;
     let spin = spin_axis(scene, mover.child, &child_points, part, inward);
-    let button =
-        small && spin.is_some_and(|s| s.pressed_not_turned(scene, mover.parent, &child_points));
+    let button = spin.is_some_and(|s| s.pressed(scene, mover.parent, &child_points, part.diagonal));
     if let Some(spin) = spin.filter(|_| !button) {
         return Motion {
             joint: Some(joint(

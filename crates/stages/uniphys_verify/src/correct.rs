@@ -21,8 +21,8 @@
 //! handle's edge), its pivot; a failure late in the range is cut before the range is reversed,
 //! and the reversal, run whole, replaces the cut when it fits better at all. A round part turned
 //! part-way about its own line (it moves nothing) keeps the line: a button (small, squat and
-//! smooth on a face of its parent) is made a slide along it, any other round part a spin about
-//! it, and the other kind is tried when that fails.
+//! smooth on a face of its parent) is pressed along it into its parent, any other round part
+//! spun about it, and the other kind is tried when that fails.
 //! Variants are swept, and the original weighed, without the end-stop leeway a given joint's
 //! written limits get (`SweepParams::end_stop_travel_fraction`): a range this stage writes ends at
 //! the stop.

@@ -119,8 +119,7 @@ impl RoundAxis {
     /// Whether a small part round about this line is a button rather than a knob, a cap or a
     /// wheel: a hand cannot turn it (it is smooth all round and squat) and it sits on a face of
     /// its `parent`.
-    #[must_use]
-    pub fn pressed_not_turned(&self, scene: &Scene, parent: usize, points: &[DVec3]) -> bool {
+    fn pressed_not_turned(&self, scene: &Scene, parent: usize, points: &[DVec3]) -> bool {
         let graspable =
             self.length_over_width >= PINCH_RATIO || self.kept_fraction < SMOOTH_KEPT_FRACTION;
         !graspable && self.face_directions(scene, parent, points) >= FACE_DIRECTIONS_MIN
