@@ -68,9 +68,9 @@ pub(crate) fn off_round_spin(
 }
 
 /// Whether the part sampled at `points` is a disc or a drum about the line through `point`
-/// along unit `axis`: no longer along it than across it (a wheel, a knob, a cap, a button), as
-/// a rod, a lever or a blade along the line is. A part's roundness residual is a share of its
-/// diagonal, so a thin part along the line seems round about it whatever its section.
+/// along unit `axis`: no longer along it than across it (a wheel, a knob, a cap, a button), not
+/// a rod, a lever or a blade lying along it. A part's roundness residual is a share of its
+/// diagonal, so a thin part lying along the line seems round about it whatever its section.
 pub(crate) fn squat_about(points: &[DVec3], point: DVec3, axis: DVec3) -> bool {
     let (lo, hi) = projection_range(points, axis);
     hi - lo <= 2.0 * farthest_from_line_m(points, point, axis)
