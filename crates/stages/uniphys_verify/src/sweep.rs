@@ -148,8 +148,9 @@ pub struct SweepMetrics {
     /// roundness residual about that line (`fit::spin_residual`, a share of their diagonal);
     /// `None` otherwise.
     pub part_way_round_residual: Option<f64>,
-    /// Continuous joints: the moving parts' roundness residual about the joint's line (as
-    /// [`Self::part_way_round_residual`]); `None` otherwise. Round about it, they turn in place.
+    /// Continuous joints whose moving parts are a disc or a drum about the joint's line: their
+    /// roundness residual about it (as [`Self::part_way_round_residual`]); `None` otherwise.
+    /// Round about it, they turn in place.
     pub spin_round_residual: Option<f64>,
     /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
     /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
@@ -413,7 +414,12 @@ pub fn sweep(
             motion.axis_in_object,
             motion.pivot_in_object_m,
         );
-        metrics.spin_round_residual = Some(residual);
+        metrics.spin_round_residual = squat_about(
+            &moving_points,
+            motion.pivot_in_object_m,
+            motion.axis_in_object,
+        )
+        .then_some(residual);
         metrics.off_round_spin = off_round_spin(
             scene,
             moving,

@@ -322,9 +322,10 @@ impl SweepMetrics {
     }
 
     /// A turning joint whose contact with its parent is judged for change (thickening,
-    /// overlap lost): every one but a spin of a part round about its line, which turns in place
-    /// and lands on itself, so its contact can change only where its outline is not round (a
-    /// wheel's spokes passing the fork that holds its axle).
+    /// overlap lost): every one but a spin of a disc or a drum round about its line, which turns
+    /// in place and lands on itself, so its contact can change only where its outline is not
+    /// round (a wheel's spokes passing the fork that holds its axle). A sliver spun about its
+    /// length seems round by its diagonal whatever its section, and is judged.
     fn contact_change_judged(&self) -> bool {
         self.rotational()
             && !self

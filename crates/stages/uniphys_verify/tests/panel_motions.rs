@@ -255,3 +255,21 @@ fn a_thin_strip_hinged_along_its_length_is_a_flap_not_a_round_part_turned_part_w
         "{reasons:?}"
     );
 }
+
+#[test]
+fn a_thin_strip_spun_about_its_length_is_not_taken_for_a_part_turning_in_place() {
+    // The same strip, spun without limit about its long edge: by its diagonal it seems as round
+    // about that line as a wheel about its axle, but a flat strip sweeps a disc of its width.
+    // Only a disc or a drum turns in place and has its contact's change left unjudged.
+    let s = scene(vec![
+        TriMesh::cuboid(DVec3::new(0.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.0)),
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.02, 0.002)),
+    ]);
+    let spin = Joint {
+        kind: JointKind::Continuous,
+        limits: None,
+        ..hinge([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 0.0, 0.0)
+    };
+    let (metrics, _) = judge(&s, &spin);
+    assert!(metrics.spin_round_residual.is_none(), "{metrics:?}");
+}
