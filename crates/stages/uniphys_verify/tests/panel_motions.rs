@@ -237,6 +237,14 @@ fn a_laptop_turned_onto_a_corner_is_judged_against_no_ground() {
     );
 }
 
+/// A strip 1 long (x), 2 cm wide and 2 mm thick lying on a block, along the block's top edge.
+fn strip_on_block() -> Scene {
+    scene(vec![
+        TriMesh::cuboid(DVec3::new(0.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.0)),
+        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.02, 0.002)),
+    ])
+}
+
 #[test]
 fn a_thin_strip_hinged_along_its_length_is_a_flap_not_a_round_part_turned_part_way() {
     // A strip 1 long, 2 cm wide and 2 mm thick lying on a block, hinged along its long edge a
@@ -244,10 +252,7 @@ fn a_thin_strip_hinged_along_its_length_is_a_flap_not_a_round_part_turned_part_w
     // line it stays within its width of itself, a small share of its length: as round, by its
     // diagonal, as a button is. It is a flap: no longer across the line than along it, it is
     // no disc or drum, and the part-way turn rule does not judge it.
-    let s = scene(vec![
-        TriMesh::cuboid(DVec3::new(0.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.0)),
-        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.02, 0.002)),
-    ]);
+    let s = strip_on_block();
     let (metrics, reasons) = judge(&s, &hinge([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 0.0, FRAC_PI_2));
     assert!(metrics.part_way_round_residual.is_none(), "{metrics:?}");
     assert!(
@@ -261,10 +266,7 @@ fn a_thin_strip_spun_about_its_length_is_not_taken_for_a_part_turning_in_place()
     // The same strip, spun without limit about its long edge: by its diagonal it seems as round
     // about that line as a wheel about its axle, but a flat strip sweeps a disc of its width.
     // Only a disc or a drum turns in place and has its contact's change left unjudged.
-    let s = scene(vec![
-        TriMesh::cuboid(DVec3::new(0.0, -0.2, -0.2), DVec3::new(1.0, 0.2, 0.0)),
-        TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.02, 0.002)),
-    ]);
+    let s = strip_on_block();
     let spin = Joint {
         kind: JointKind::Continuous,
         limits: None,
