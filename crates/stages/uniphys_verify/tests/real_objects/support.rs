@@ -73,13 +73,7 @@ impl Object {
             }),
             ..truth.clone()
         };
-        let verdict = self.caught(i, quarter);
-        assert!(
-            verdict.message.contains("less than a half turn"),
-            "{}",
-            verdict.message
-        );
-        let (fixed, change) = verdict.correction.expect("corrected");
+        let (fixed, change) = self.corrected(i, quarter, "less than a half turn");
         assert_eq!(fixed.axis_in_object, truth.axis_in_object, "{change}");
         assert_eq!(fixed.pivot_in_object_m, pivot.to_array(), "{change}");
         (fixed, change)
@@ -127,9 +121,7 @@ impl Object {
     /// range by a reversal.
     pub(crate) fn assert_reversal_caught_and_undone(&self, i: usize, reason: &str) {
         let truth = &self.joints[i];
-        let verdict = self.caught(i, reversed(truth));
-        assert!(verdict.message.contains(reason), "{}", verdict.message);
-        let (fixed, change) = verdict.correction.expect("corrected");
+        let (fixed, change) = self.corrected(i, reversed(truth), reason);
         assert!(change.contains("reversed"), "{change}");
         assert_eq!(fixed.limits, truth.limits);
     }
@@ -156,7 +148,6 @@ impl Object {
         }
     }
 
-    /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
     /// Joint `i` made a slide along its own line (half the part's length along it, as
     /// verify-bench's "revolute made prismatic" does) is caught and corrected back to a joint
     /// of its true kind on its true line ([`assert_restored_to_true_line`]); returns it.
@@ -179,10 +170,19 @@ impl Object {
         fixed
     }
 
+    /// Verifies joint `i` with `broken` in its place, which the sweep must fail.
     pub(crate) fn caught(&self, i: usize, broken: Joint) -> JointVerdict {
         let verdict = self.verify(&self.with(i, broken), i);
         assert_ne!(verdict.outcome, CheckOutcome::Pass, "{}", verdict.message);
         verdict
+    }
+
+    /// [`Self::caught`] for a message naming `reason`; returns the correction and what it
+    /// changed.
+    pub(crate) fn corrected(&self, i: usize, broken: Joint, reason: &str) -> (Joint, String) {
+        let verdict = self.caught(i, broken);
+        assert!(verdict.message.contains(reason), "{}", verdict.message);
+        verdict.correction.expect("corrected")
     }
 }
 
