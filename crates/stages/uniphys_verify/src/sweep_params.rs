@@ -129,8 +129,9 @@ pub struct SweepParams {
     /// share of its diagonal (true continuous joints of real objects: at most 0.04, spouts that
     /// are round about no line aside; wheels and knobs flipped about a diameter: 0.07 to 0.19).
     pub off_round_residual_min: f64,
-    /// A revolute joint limited to less than a half turn fails when its moving parts are round
-    /// about its line: their roundness residual there at most this share of their diagonal. A
+    /// A revolute joint limited to less than a half turn fails when its moving parts are a disc
+    /// or a drum round about its line (no longer along it than across it): their roundness
+    /// residual there at most this share of their diagonal. A
     /// round part turned part-way lands on itself and moves nothing; a knob spins (continuous,
     /// or nearly a full turn: an oven's knobs turn 330 degrees), a round button or cap is
     /// pushed or lifted along the line (true revolute joints of the shared real objects limited

@@ -527,24 +527,22 @@ impl SweepMetrics {
                 self.hinge_slot_walled_sides as f64,
             ),
         ];
+        // Measured only for some joints: present when measured.
+        let measured = [
+            ("handle_reach_fraction", self.handle_reach_fraction),
+            ("handle_bar_axis_cos", self.handle_bar_axis_cos),
+            ("sheet_hinge_off_parent", self.sheet_hinge_off_parent),
+            ("long_slide_rise", self.long_slide_rise),
+            ("part_way_round_residual", self.part_way_round_residual),
+            ("spin_round_residual", self.spin_round_residual),
+        ];
         entries
             .into_iter()
             .map(|(k, v)| (k.to_owned(), v))
             .chain(
-                self.handle_reach_fraction
-                    .map(|f| ("handle_reach_fraction".to_owned(), f)),
-            )
-            .chain(
-                self.handle_bar_axis_cos
-                    .map(|c| ("handle_bar_axis_cos".to_owned(), c)),
-            )
-            .chain(
-                self.sheet_hinge_off_parent
-                    .map(|f| ("sheet_hinge_off_parent".to_owned(), f)),
-            )
-            .chain(
-                self.long_slide_rise
-                    .map(|r| ("long_slide_rise".to_owned(), r)),
+                measured
+                    .into_iter()
+                    .filter_map(|(k, v)| v.map(|v| (k.to_owned(), v))),
             )
             .chain(self.in_plane_turn.into_iter().flat_map(|t| {
                 [
@@ -558,14 +556,6 @@ impl SweepMetrics {
                     ("off_round_round_residual".to_owned(), s.round_residual),
                 ]
             }))
-            .chain(
-                self.part_way_round_residual
-                    .map(|r| ("part_way_round_residual".to_owned(), r)),
-            )
-            .chain(
-                self.spin_round_residual
-                    .map(|r| ("spin_round_residual".to_owned(), r)),
-            )
             .chain(self.short_slide_side.into_iter().flat_map(|s| {
                 [
                     ("short_slide_surround_share".to_owned(), s.surround_share),
