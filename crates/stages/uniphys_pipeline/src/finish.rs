@@ -14,7 +14,7 @@ use crate::cavities::carve_cavities;
 use crate::input::Input;
 use crate::preview::{PREVIEW_PATH, preview_png};
 use crate::run::{Clock, RunOptions};
-use crate::verify::verify;
+use crate::verify::{VerifyOptions, verify};
 use crate::{PipelineResult, Stage};
 
 /// What the last stage produced.
@@ -25,6 +25,14 @@ pub(crate) struct Finished {
     pub(crate) artifacts: Vec<Artifact>,
     /// Every check that ran.
     pub(crate) report: VerificationReport,
+}
+
+/// The verify stage's options for `input`: a slide's slot may be walled by any still part when
+/// its parts were cut by a decomposition (`SweepParams::slot_walled_by_any_still_part`).
+fn verify_options(input: &Input, options: &RunOptions) -> VerifyOptions {
+    let mut verify = options.verify.clone();
+    verify.sweep.slot_walled_by_any_still_part |= input.decomposed;
+    verify
 }
 
 /// The `verify` stage: `record` (grounded on `input`'s parts, whose meshes are `meshes`
@@ -42,7 +50,13 @@ pub(crate) fn verify_grounded(
         // Touching pairs serve verification (the dynamic check's contact filter) and export
         // (MJCF excludes): computed once, timed with verification.
         let touching = touching_pairs(asset, options.touching_fraction);
-        let verified = verify(record, meshes, colliders, touching, &options.verify)?;
+        let verified = verify(
+            record,
+            meshes,
+            colliders,
+            touching,
+            &verify_options(input, options),
+        )?;
         let summary = format!(
             "{} of {} movable joints passed the sweep, {} corrected; intrinsic {}",
             verified.joints_passed,

@@ -77,6 +77,9 @@ pub(crate) struct Input {
     pub(crate) warnings: Vec<String>,
     /// What was done to it and why, for the export's notes.
     pub(crate) notes: Vec<String>,
+    /// Its parts were cut by a decomposition (here or stored), not authored: the still body may
+    /// be several of them.
+    pub(crate) decomposed: bool,
 }
 
 /// Reads the input (the run's `ingest` stage; a stored [`IngestedAsset`] is taken as it is),
@@ -148,6 +151,7 @@ pub(crate) fn read_input(
                 summary,
             ))
         })?;
+    let decomposed = decompose_note.is_some();
     let mut notes: Vec<String> = decompose_note.into_iter().collect();
     let kind = {
         let part_names: Vec<&str> = asset.parts.iter().map(|p| p.name.as_str()).collect();
@@ -195,6 +199,7 @@ pub(crate) fn read_input(
         dropped,
         warnings,
         notes,
+        decomposed,
     })
 }
 

@@ -32,6 +32,38 @@ fn a_cart_merged_into_one_mesh_comes_back_with_its_wheels_spinning() {
     assert_spins_come_back("kitchen-101090", 4);
 }
 
+#[test]
+fn a_table_merged_into_one_mesh_comes_back_with_its_drawers_sliding() {
+    // Two drawers side by side under a table top, each with a knob. The decomposition leaves
+    // the table in several parts and hangs each drawer from the largest: that part walls a
+    // drawer in on one side only, the other drawer and the other boards on the rest. Walled in
+    // by its parent alone, a drawer's slide ran in no slot and was corrected into a hinge.
+    let name = "kitchen-32932";
+    let (pred, gt, matches) = run_merged(name);
+    let drawers: Vec<_> = gt.joints.iter().filter(|j| j.motion_type == 'B').collect();
+    assert_eq!(drawers.len(), 2, "{:?}", gt.joints);
+    for drawer in drawers {
+        let found = pred.joint_of(&drawer.child).unwrap_or_else(|| {
+            panic!(
+                "{}: no part found for it\nmatches {matches:#?}",
+                drawer.child
+            )
+        });
+        let angle = DVec3::from_array(found.axis)
+            .normalize()
+            .dot(DVec3::from_array(drawer.axis).normalize())
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees();
+        assert!(
+            found.motion_type == 'B' && angle < 10.0,
+            "{}: {} along an axis {angle:.1} deg off the way it pulls out",
+            drawer.child,
+            found.motion_type
+        );
+    }
+}
+
 /// The shared object `name` merged into one bare mesh, run with decomposition and the built-in
 /// grounder: its `spins` parts that spin without limit come back spinning about their axes.
 fn assert_spins_come_back(name: &str, spins: usize) {

@@ -19,12 +19,13 @@ const WALL_REACH_FRACTION: f64 = 0.25;
 const WALLED_RAY_SHARE: f64 = 0.5;
 
 /// How many of the four sides across `axis` (both ways along the two directions across it) the
-/// parent walls in the moving part (its samples `moving`): from points inside the part's box,
-/// spread along the slide and across it, rays go towards each side as far as the part reaches
-/// plus a quarter of its diagonal; a side whose rays mostly meet the parent's surface is walled.
+/// parts `walls` (the parent, or every still part) wall in the moving part (its samples
+/// `moving`): from points inside the part's box, spread along the slide and across it, rays go
+/// towards each side as far as the part reaches plus a quarter of its diagonal; a side whose
+/// rays mostly meet a wall's surface is walled.
 /// Real drawers of the shared objects: 2 to 4 (one hanging under a table top alone: 1); a door,
 /// lid or screen pushed along its own face: usually 0 or 1.
-pub(crate) fn walled_sides(scene: &Scene, parent: usize, moving: &[DVec3], axis: DVec3) -> usize {
+pub(crate) fn walled_sides(scene: &Scene, walls: &[usize], moving: &[DVec3], axis: DVec3) -> usize {
     let axis = axis.normalize_or_zero();
     if moving.is_empty() || axis == DVec3::ZERO {
         return 0;
@@ -52,7 +53,10 @@ pub(crate) fn walled_sides(scene: &Scene, parent: usize, moving: &[DVec3], axis:
                         axis * at(along, fa) + other * at(ranges[1 - dim], fo) + side * middle;
                     let to = from + side * (sign * length);
                     rays += 1;
-                    if scene.surfaces.crossing(parent, from, to).is_some() {
+                    if walls
+                        .iter()
+                        .any(|&w| scene.surfaces.crossing(w, from, to).is_some())
+                    {
                         hits += 1;
                     }
                 }
@@ -92,7 +96,74 @@ mod tests {
         let (carcass, drawer) = carcass_and_drawer();
         let s = Scene::of_convex_parts(&[carcass, drawer], 1500);
         let moving = s.points_of(&[1]);
-        assert_eq!(walled_sides(&s, 0, &moving, DVec3::Y), 4);
+        assert_eq!(walled_sides(&s, &[0], &moving, DVec3::Y), 4);
+    }
+
+    /// The same carcass cut into its five boards, as a decomposition may leave it: the bottom
+    /// board (part 0, the drawer's parent), the drawer (part 1), then the sides, top and back
+    /// (parts 2 to 5).
+    fn cut_carcass_and_drawer() -> Scene {
+        let board = |min: [f64; 3], max: [f64; 3]| {
+            TriMesh::cuboid(DVec3::from_array(min), DVec3::from_array(max))
+        };
+        let (_, drawer) = carcass_and_drawer();
+        Scene::of_convex_parts(
+            &[
+                board([0.0, 0.0, 0.0], [0.5, 0.4, 0.02]),
+                drawer,
+                board([-0.02, 0.0, 0.0], [0.0, 0.4, 0.24]),
+                board([0.5, 0.0, 0.0], [0.52, 0.4, 0.24]),
+                board([0.0, 0.0, 0.22], [0.5, 0.4, 0.24]),
+                board([-0.02, 0.4, 0.0], [0.52, 0.42, 0.24]),
+            ],
+            1500,
+        )
+    }
+
+    #[test]
+    fn a_drawer_in_a_cut_carcass_is_walled_in_by_the_boards_together() {
+        let s = cut_carcass_and_drawer();
+        let moving = s.points_of(&[1]);
+        assert!(walled_sides(&s, &[0], &moving, DVec3::Y) <= 1);
+        assert_eq!(walled_sides(&s, &[0, 2, 3, 4, 5], &moving, DVec3::Y), 4);
+    }
+
+    #[test]
+    fn a_drawer_in_a_cut_carcass_slides_when_any_still_part_may_wall_it() {
+        use uniphys_types::{Joint, JointKind, JointLimits, PartId, Provenance};
+
+        use crate::sweep::sweep;
+        use crate::sweep_params::SweepParams;
+
+        let s = cut_carcass_and_drawer();
+        let drawer_out = Joint {
+            name: "drawer".to_owned(),
+            kind: JointKind::Prismatic,
+            parent: PartId(0),
+            child: PartId(1),
+            axis_in_object: [0.0, -1.0, 0.0],
+            pivot_in_object_m: [0.25, 0.2, 0.12],
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: 0.3,
+            }),
+            damping: 0.0,
+            friction: 0.0,
+            coupled_parts: Vec::new(),
+            provenance: Provenance::rule("test"),
+        };
+        let in_no_slot = |params: &SweepParams| {
+            let metrics = sweep(&s, &drawer_out, &[1], params).expect("sweep");
+            metrics
+                .failures(params)
+                .iter()
+                .any(|r| r.contains("runs in no slot"))
+        };
+        assert!(in_no_slot(&SweepParams::default()));
+        assert!(!in_no_slot(&SweepParams {
+            slot_walled_by_any_still_part: true,
+            ..SweepParams::default()
+        }));
     }
 
     #[test]
@@ -105,7 +176,7 @@ mod tests {
         );
         let s = Scene::of_convex_parts(&[carcass, door], 1500);
         let moving = s.points_of(&[1]);
-        let walled = walled_sides(&s, 0, &moving, DVec3::Z);
+        let walled = walled_sides(&s, &[0], &moving, DVec3::Z);
         assert!(walled <= 1, "{walled}");
     }
 }

@@ -120,8 +120,9 @@ pub struct SweepMetrics {
     /// Slides: how much walls guide the slide (the smaller eigenvalue of `T` across the axis);
     /// 0 for turning joints or without contact normals.
     pub short_slide_guidance: f64,
-    /// Long slides: how many of the four sides across the axis its parent walls in (a slot,
-    /// see `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
+    /// Long slides: how many of the four sides across the axis its parent walls in (or any
+    /// still part, `SweepParams::slot_walled_by_any_still_part`; a slot, see
+    /// `SweepParams::long_slide_walled_sides_min`); 4 for other joints.
     pub long_slide_walled_sides: usize,
     /// Long slides of an object standing on the ground: the vertical component of the unit
     /// direction the part travels (toward the far end of its range; 1 straight up); `None`
@@ -442,10 +443,16 @@ pub fn sweep(
         metrics.handle_reach_fraction = handle.map(|h| h.reach_fraction);
         metrics.handle_bar_axis_cos = handle.and_then(|h| h.bar_axis_cos);
     }
-    // A long slide (a slide that is not short) must run in a slot of its parent.
+    // A long slide (a slide that is not short) must run in a slot of its parent (of anything
+    // still, for parts a decomposition cut).
     if short_slide == Some(None) {
+        let walls: &[usize] = if params.slot_walled_by_any_still_part {
+            &still
+        } else {
+            &[parent]
+        };
         metrics.long_slide_walled_sides =
-            walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+            walled_sides(scene, walls, &moving_points, motion.axis_in_object);
         // ... and stays in it: a drawer travels less than its depth.
         let (lo, hi) = projection_range(&moving_points, motion.axis_in_object.normalize_or_zero());
         metrics.long_slide_travel_share = upper.abs().max(lower.abs()) / (hi - lo).max(1e-12);
@@ -471,7 +478,7 @@ pub fn sweep(
         && !axis_across_panel(moving_boxed.part_box(), motion.axis_in_object)
     {
         metrics.hinge_slot_walled_sides =
-            walled_sides(scene, parent, &moving_points, motion.axis_in_object);
+            walled_sides(scene, &[parent], &moving_points, motion.axis_in_object);
     }
     if joint.kind == JointKind::Prismatic {
         let touch_m = slide_touch_m(params, &moving_points);

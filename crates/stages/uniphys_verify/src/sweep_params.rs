@@ -96,6 +96,12 @@ pub struct SweepParams {
     /// pot). Pulled straight off a cabinet's front (a door made a slide) or dropped from under a
     /// table's top (a drawer slid down out of its frame), nothing but the face held it.
     pub long_slide_lift_rise_min: f64,
+    /// ... walled in by any part that stays still, not only its parent. For parts a
+    /// decomposition cut: the still body may be several parts, and the one a part hangs from is
+    /// a guess (a drawer's parent may be one board of its carcass, its other walls other
+    /// boards). Off for authored parts, whose parent is the body that holds the slot (a door
+    /// slid along its face between two other doors is not in a slot).
+    pub slot_walled_by_any_still_part: bool,
     /// A hinge (revolute) fails when its parent walls its moving parts in on at least this many
     /// of the four sides across its axis: they sit in a slot along the axis, which they slide
     /// along and do not turn about (the drawers of real objects: 2 to 4, mostly 3; true hinges:
@@ -178,6 +184,7 @@ impl Default for SweepParams {
             long_slide_walled_sides_min: 2,
             long_slide_travel_share_max: 1.5,
             long_slide_lift_rise_min: 0.5,
+            slot_walled_by_any_still_part: false,
             hinge_slot_walled_sides_min: 3,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
