@@ -327,16 +327,17 @@ fn on_parent_face(child_points: &[DVec3], part: &PartBox, parent: &PartBox) -> b
 }
 
 /// The normal of the side of its parent a panel closes from outside, if it closes one: its thin
-/// axis along a normal of the parent's box, its middle over that face, its parent behind it and
-/// nothing of its parent in front of it over its outline. A door on its cabinet's front closes
-/// it, and so does one set back from its parent's box (under a table's overhanging top, more
-/// than [`ON_FACE_FRACTION`] of the table's depth in from its edge); a drawer's top under its
+/// axis along a normal of the parent's box, its middle over that face, something still behind
+/// it and nothing still in front of it over its outline (`still_points`: samples of the parts
+/// that do not move with it, its parent among them). A door on its cabinet's front closes it,
+/// and so does one set back from its parent's box (under a table's overhanging top, more than
+/// [`ON_FACE_FRACTION`] of the table's depth in from its edge); a drawer's top under its
 /// cabinet's top closes nothing.
 pub(crate) fn closed_side(
     child_points: &[DVec3],
     part: &PartBox,
     parent: &PartBox,
-    parent_points: &[DVec3],
+    still_points: &[DVec3],
 ) -> Option<DVec3> {
     let thin = part.thinnest_axis();
     let across = [(thin + 1) % 3, (thin + 2) % 3];
@@ -358,7 +359,7 @@ pub(crate) fn closed_side(
             // It faces the nearer face of its parent's box.
             let outward_up = face_hi - hi <= lo - face_lo;
             let (mut in_front, mut behind) = (0_usize, 0_usize);
-            for p in parent_points.iter().filter(|p| in_outline(p)) {
+            for p in still_points.iter().filter(|p| in_outline(p)) {
                 let x = p.dot(normal);
                 if (outward_up && x > hi) || (!outward_up && x < lo) {
                     in_front += 1;

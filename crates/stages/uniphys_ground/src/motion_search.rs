@@ -284,8 +284,14 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     // A part that closes a side of its parent from outside (a door on its front) slides, if at
     // all, out of that side: slid along it, it is a door pushed sideways or down out of its
     // frame, which only the ground, when there is one, would stop. A drawer closes no side by
-    // this test (its thin axis is its height, not its depth).
-    let closed = closed_side(&child_points, part, parent_box, &parent_points);
+    // this test (its thin axis is its height, not its depth). What lies in front of the part is
+    // looked for in everything that stays still, not its parent alone: a decomposition may hang a
+    // drawer from a table's lower frame and leave the top another part, and the drawer under
+    // that top closes nothing.
+    let still: Vec<usize> = (0..scene.part_count())
+        .filter(|p| !mover.moving.contains(p))
+        .collect();
+    let closed = closed_side(&child_points, part, parent_box, &scene.points_of(&still));
     let along_closed_side =
         |axis: DVec3| closed.is_some_and(|n| axis.dot(n).abs() < ALONG_SIDE_COS);
     // Ways out of the opening: those where the parent reaches past the part least (within
