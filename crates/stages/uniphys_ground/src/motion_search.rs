@@ -288,10 +288,8 @@ pub(crate) fn find_motion(scene: &Scene, mover: &Mover<'_>) -> Motion {
     // looked for in everything that stays still, not its parent alone: a decomposition may hang a
     // drawer from a table's lower frame and leave the top another part, and the drawer under
     // that top closes nothing.
-    let still: Vec<usize> = (0..scene.part_count())
-        .filter(|p| !mover.moving.contains(p))
-        .collect();
-    let closed = closed_side(&child_points, part, parent_box, &scene.points_of(&still));
+    let still_points = scene.points_of(&scene.still_parts(mover.moving));
+    let closed = closed_side(&child_points, part, parent_box, &still_points);
     let along_closed_side =
         |axis: DVec3| closed.is_some_and(|n| axis.dot(n).abs() < ALONG_SIDE_COS);
     // Ways out of the opening: those where the parent reaches past the part least (within

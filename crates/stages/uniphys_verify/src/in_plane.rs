@@ -87,9 +87,7 @@ pub fn held_pivots(
     let Some(part) = panel_turned_across(&boxed, axis) else {
         return Vec::new();
     };
-    let still: Vec<usize> = (0..scene.part_count())
-        .filter(|p| !moving.contains(p))
-        .collect();
+    let still = scene.still_parts(moving);
     let touch_m = rest_contact_m(params, part.diagonal, scene.diagonal_m);
     let (_, held) = probe_faces(scene, &points, &still, axis, part, touch_m);
     if held.len() < HELD_SAMPLES_MIN {

@@ -159,6 +159,14 @@ impl Scene {
         Self::new(meshes, &colliders, samples_per_part).expect("a scene of hand-built parts")
     }
 
+    /// The parts that stay still while `moving` moves: every part not in it, in order.
+    #[must_use]
+    pub fn still_parts(&self, moving: &[usize]) -> Vec<usize> {
+        (0..self.part_count())
+            .filter(|p| !moving.contains(p))
+            .collect()
+    }
+
     /// Surface samples of the given parts, concatenated.
     #[must_use]
     pub fn points_of(&self, parts: &[usize]) -> Vec<DVec3> {

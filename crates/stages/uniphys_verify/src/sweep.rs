@@ -228,7 +228,7 @@ pub fn sweep(
     let motion = JointMotion::of(joint);
     let moving_points = scene.points_of(moving);
     let parent_points = &scene.samples[parent];
-    let still: Vec<usize> = (0..n).filter(|p| !moving.contains(p)).collect();
+    let still = scene.still_parts(moving);
     let colliders = &scene.colliders;
     let moving_hulls = colliders.of_parts(moving);
     let still_hulls = colliders.of_parts(&still);
