@@ -102,14 +102,31 @@ impl Surfaces {
         point: DVec3,
         max_distance_m: f64,
     ) -> Option<DVec3> {
+        self.nearest_with_normal(part, point, max_distance_m)
+            .map(|(_, n)| n)
+    }
+
+    /// The point of `part`'s surface nearest to `point` (object frame) and its triangle's unit
+    /// normal (as the triangle is wound), if one lies within `max_distance_m`.
+    pub(crate) fn nearest_with_normal(
+        &self,
+        part: usize,
+        point: DVec3,
+        max_distance_m: f64,
+    ) -> Option<(DVec3, DVec3)> {
         let s = self.parts.get(part)?.as_ref()?;
-        let (_, (triangle, _)) = s.mesh.project_local_point_and_get_location_with_max_dist(
-            to_f32(point - self.origin),
-            false,
-            max_distance_m as f32,
-        )?;
+        let (projection, (triangle, _)) =
+            s.mesh.project_local_point_and_get_location_with_max_dist(
+                to_f32(point - self.origin),
+                false,
+                max_distance_m as f32,
+            )?;
         let n = s.mesh.triangle(triangle).normal()?;
-        Some(DVec3::new(f64::from(n.x), f64::from(n.y), f64::from(n.z)))
+        let p = projection.point;
+        Some((
+            DVec3::new(f64::from(p.x), f64::from(p.y), f64::from(p.z)) + self.origin,
+            DVec3::new(f64::from(n.x), f64::from(n.y), f64::from(n.z)),
+        ))
     }
 
     /// Where the segment from `from` to `to` (object frame) first crosses the surface of

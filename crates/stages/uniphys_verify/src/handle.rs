@@ -64,11 +64,7 @@ fn standing_out(points: &[DVec3], part: &PartBox, away: DVec3) -> Option<Vec<DVe
     if !is_panel(part) {
         return None;
     }
-    let normal = if part.axes[thin].dot(away) < 0.0 {
-        -part.axes[thin]
-    } else {
-        part.axes[thin]
-    };
+    let normal = outer_normal(part, away);
     let (a, b) = ((thin + 1) % 3, (thin + 2) % 3);
     let grid = ((points.len() / SAMPLES_PER_CELL) as f64)
         .sqrt()
@@ -138,6 +134,13 @@ fn standing_out(points: &[DVec3], part: &PartBox, away: DVec3) -> Option<Vec<DVe
         .then_some(standing)
 }
 
+/// The unit normal of the outer face of a panel of box `part`: its thinnest box axis turned
+/// along `away`.
+fn outer_normal(part: &PartBox, away: DVec3) -> DVec3 {
+    let thin = part.axes[part.thinnest_axis()];
+    if thin.dot(away) < 0.0 { -thin } else { thin }
+}
+
 /// A hinge runs along a panel's edge when its axis is this far at most from the panel's plane
 /// (|cosine| to the panel's normal): a door's or a lid's, not a knob's or a blade's, which turn
 /// about their normal.
@@ -189,6 +192,21 @@ pub(crate) struct HandleOnHinge {
     /// For a bar ([`BAR_ELONGATION_MIN`]): the |cosine| between its length and the line (1: it
     /// runs along the hinge, as the bars of real doors do); `None` for a knob or a pad.
     pub bar_axis_cos: Option<f64>,
+    /// The middle of the handle.
+    pub centre: DVec3,
+    /// The unit normal of the panel's outer face, which the handle stands out of.
+    pub outward: DVec3,
+}
+
+impl HandleOnHinge {
+    /// The cosine between the way the handle first moves when its panel turns about `axis`
+    /// through `pivot` toward positive angles (`way` 1) or negative ones (`way` -1) and the
+    /// panel's outer normal: 1 when the handle is pulled straight out of the face, -1 when it is
+    /// pushed into it. `None` when the handle lies on the line.
+    pub(crate) fn opening_cos(&self, axis: DVec3, pivot: DVec3, way: f64) -> Option<f64> {
+        let first_move = (axis.cross(self.centre - pivot) * way).try_normalize()?;
+        Some(first_move.dot(self.outward))
+    }
 }
 
 /// Where a panel's handle lies from a hinge line through `pivot` along `axis`: its share of the
@@ -215,10 +233,11 @@ pub(crate) fn handle_on_hinge(
     if axis_across_panel(child.part_box(), axis) {
         return None;
     }
-    let standing = standing_out(child.points, child.part_box(), away).or_else(|| {
-        (group.points.len() > child.points.len())
-            .then(|| standing_out(group.points, group.part_box(), away))?
-    })?;
+    let with_normal = |b: &Boxed<'_>| {
+        standing_out(b.points, b.part_box(), away).map(|s| (s, outer_normal(b.part_box(), away)))
+    };
+    let (standing, outward) = with_normal(child)
+        .or_else(|| (group.points.len() > child.points.len()).then(|| with_normal(group))?)?;
     let touch_m = HANDLE_TOUCH_FRACTION * Aabb::from_points(group.points).diagonal();
     let parent = KdTree::new(parent.to_vec());
     if standing
@@ -232,6 +251,8 @@ pub(crate) fn handle_on_hinge(
     (reach > 0.0).then(|| HandleOnHinge {
         reach_fraction: off_line(mean(&standing)) / reach,
         bar_axis_cos: bar_direction(&standing).map(|d| d.dot(axis).abs()),
+        centre: mean(&standing),
+        outward,
     })
 }
 
@@ -433,6 +454,29 @@ mod tests {
         assert!(bar_cos(DVec3::Z, DVec3::new(-0.3, 0.0, 0.0)) > 0.99);
         // ... and across a hinge along its bottom edge.
         assert!(bar_cos(DVec3::X, DVec3::ZERO) < 0.05);
+    }
+
+    #[test]
+    fn a_door_opening_outward_pulls_its_handle_out_of_its_face() {
+        let points = door_with_side_bar();
+        let parent = wall(&[]);
+        // Hinged on its left edge, its outer face toward -y, with the wall behind it at +y.
+        let (axis, pivot) = (DVec3::Z, DVec3::new(-0.3, 0.0, 0.0));
+        let handle = handle_on_hinge(
+            &Boxed::new(&points),
+            &Boxed::new(&points),
+            &parent,
+            axis,
+            pivot,
+            -DVec3::Y,
+        )
+        .expect("a handle");
+        assert!(handle.outward.dot(-DVec3::Y) > 0.99, "{handle:?}");
+        // Turned toward negative angles about +z, the right edge comes out toward -y.
+        let out = handle.opening_cos(axis, pivot, -1.0).expect("off the line");
+        assert!(out > 0.99, "{out}");
+        let into = handle.opening_cos(axis, pivot, 1.0).expect("off the line");
+        assert!(into < -0.99, "{into}");
     }
 
     #[test]

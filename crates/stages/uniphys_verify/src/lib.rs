@@ -4,7 +4,8 @@
 //! - articulation sweeps: each joint moved through its range; contact with its parent, the
 //!   moving surface passing through the other parts' own triangles (`crossing`), a short
 //!   slide's gap to its parent, its direction against the face it sits on and which way it
-//!   goes (into a face around it, off a parent it caps: [`SlideSide`]), a long slide in a slot
+//!   goes (into a face around it, off a parent it caps: [`SlideSide`]), no slide of a part its
+//!   parent holds from both ends along the axis ([`SlideTrap`]), a long slide in a slot
 //!   it stays in or lifted across a sheet's own plane, and no hinge about a slot's axis
 //!   (`slot`), a turning axis held by its part, a panel's hinge away from its handle and along
 //!   a bar handle ([`panel_handle`]), a sheet held along an edge hinged where it meets its
@@ -50,6 +51,7 @@ mod round_axis;
 mod rounded_ends;
 mod scene;
 mod slide_side;
+mod slide_trap;
 mod slot;
 mod sweep;
 mod sweep_params;
@@ -78,5 +80,6 @@ pub use round_axis::{
 pub use rounded_ends::rounded_end_pivots;
 pub use scene::{Scene, moving_group};
 pub use slide_side::SlideSide;
+pub use slide_trap::SlideTrap;
 pub use sweep::{SweepMetrics, sweep};
 pub use sweep_params::SweepParams;

@@ -19,6 +19,7 @@ use crate::part_box::Boxed;
 use crate::patch::{PosedTree, grow_patch};
 use crate::scene::Scene;
 use crate::slide_side::{SlideSide, slide_side};
+use crate::slide_trap::{SlideTrap, slide_trap};
 use crate::slot::walled_sides;
 use crate::sweep_params::SweepParams;
 use crate::{VerifyError, VerifyResult};
@@ -106,6 +107,10 @@ pub struct SweepMetrics {
     /// Turning joints along a panel's edge whose handle is a bar: the |cosine| between the bar's
     /// length and the axis (1: along it); `None` without such a bar.
     pub handle_bar_axis_cos: Option<f64>,
+    /// Hinges (revolute) along a panel's edge that turn it one way from rest, with a handle: the
+    /// cosine between the way the handle first moves and the panel's outer normal (1: pulled
+    /// straight out of the face, -1: pushed into it); `None` otherwise.
+    pub handle_opening_cos: Option<f64>,
     /// Largest contact threshold a step may need before it counts as contact lost, metres.
     pub contact_reach_m: f64,
     /// Short slides: the largest growth over the sweep of the gap between the moving group and
@@ -156,6 +161,9 @@ pub struct SweepMetrics {
     /// Short slides: whether the parent's face surrounds the part and whether the slide takes it
     /// away from its parent ([`SlideSide`]); `None` for other joints or without contact at rest.
     pub short_slide_side: Option<SlideSide>,
+    /// Slides: how the parent holds the part from the two ends along the axis ([`SlideTrap`]);
+    /// `None` for turning joints or without samples touching the parent off its faces.
+    pub slide_trap: Option<SlideTrap>,
 }
 
 /// Sweeps `joint` through its limits (continuous joints: one full turn), moving the parts in
@@ -317,6 +325,7 @@ pub fn sweep(
         hinge_to_part_max_m,
         handle_reach_fraction: None,
         handle_bar_axis_cos: None,
+        handle_opening_cos: None,
         sheet_hinge_off_parent: None,
         contact_reach_m: initial.as_ref().map_or(0.0, |(_, t)| *t)
             + step * patch.max_step_increments as f64,
@@ -334,6 +343,7 @@ pub fn sweep(
         part_way_round_residual: None,
         spin_round_residual: None,
         short_slide_side: None,
+        slide_trap: None,
     };
     // A short slide (a button, a cap's lift) must stay at its parent: its gap to the parent is
     // followed against the one at rest.
@@ -442,6 +452,15 @@ pub fn sweep(
         );
         metrics.handle_reach_fraction = handle.map(|h| h.reach_fraction);
         metrics.handle_bar_axis_cos = handle.and_then(|h| h.bar_axis_cos);
+        // A hinge turning its part one way from rest: how its handle first moves.
+        let way = match joint.kind {
+            JointKind::Revolute if lower >= 0.0 && upper > 0.0 => Some(1.0),
+            JointKind::Revolute if upper <= 0.0 && lower < 0.0 => Some(-1.0),
+            _ => None,
+        };
+        metrics.handle_opening_cos = handle.zip(way).and_then(|(h, way)| {
+            h.opening_cos(motion.axis_in_object, motion.pivot_in_object_m, way)
+        });
     }
     // A long slide (a slide that is not short) must run in a slot of its parent (of anything
     // still, for parts a decomposition cut).
@@ -486,6 +505,13 @@ pub fn sweep(
             (metrics.short_slide_press, metrics.short_slide_guidance) =
                 slide_against_contact(tensor, motion.axis_in_object);
         }
+        metrics.slide_trap = slide_trap(
+            scene,
+            parent,
+            &moving_points,
+            touch_m,
+            motion.axis_in_object,
+        );
         if matches!(short_slide, Some(Some(_))) {
             metrics.short_slide_side = slide_side(
                 scene,

@@ -62,6 +62,14 @@ pub struct SweepParams {
     /// ... or is guided when `T` restricted to the plane across the axis has both eigenvalues at
     /// least this (the neck a cap slides along: 0.37 to 0.5; a flat face: 0).
     pub short_slide_guidance_min: f64,
+    /// A slide fails when its parent holds its part from both ends along the axis
+    /// ([`crate::SlideTrap`]): faces facing both ways weigh at least this share of the touching
+    /// samples (true slides of real objects whose faces lie apart: at most 0.035; their lids
+    /// and drawers slid a quarter turn off their axis: 0.1 to 0.45) ...
+    pub slide_trap_share_min: f64,
+    /// ... and lie at least this share of the part's length along the axis apart (a part drawn
+    /// slightly into its parent at rest has faces facing both ways at one place).
+    pub slide_trap_separation_min: f64,
     /// A hinge along a panel's edge fails when the panel's handle lies nearer its axis than this
     /// share of the panel's reach from the axis: the handle is near the free edge (true hinges
     /// of real objects: at least 0.47; moved to the opposite edge: at most 0.35).
@@ -71,6 +79,12 @@ pub struct SweepParams {
     /// objects: 0.7 to 1; hinges turned a quarter: at most 0.04). A door's pull runs along its
     /// hinge, a side-hinged door's upright and an oven door's level.
     pub hinge_bar_cos_min: f64,
+    /// A hinge (revolute) that turns a panel with a handle one way from rest fails when the
+    /// handle's first move, against the panel's outer normal, has a cosine below this: it
+    /// pushes the handle into the face, so the panel opens away from its handle (a door swung
+    /// into its oven); a handle is pulled (true hinges of real objects: 0.98 to 1; reversed:
+    /// about -1).
+    pub handle_opening_cos_min: f64,
     /// A hinge (revolute) along the plane of a broad sheet (a door, a lid, a screen) fails when
     /// its line runs away from the parent: its mean distance to the parent's surface over the
     /// sheet's stretch above this share of the moving parts' diagonal (true hinges of real
@@ -177,8 +191,11 @@ impl Default for SweepParams {
             short_slide_surround_min: 0.75,
             short_slide_capping_max: 0.25,
             short_slide_guidance_min: 0.15,
+            slide_trap_share_min: 0.08,
+            slide_trap_separation_min: 0.2,
             hinge_handle_fraction_min: 0.4,
             hinge_bar_cos_min: 0.5,
+            handle_opening_cos_min: -0.5,
             sheet_hinge_off_parent_max: 0.15,
             sheet_contact_fraction_min: 0.45,
             long_slide_walled_sides_min: 2,

@@ -10,6 +10,7 @@ use crate::fit::ROUND_RESIDUAL_MAX;
 use crate::in_plane::InPlaneTurn;
 use crate::off_round::OffRoundSpin;
 use crate::slide_side::SlideSide;
+use crate::slide_trap::SlideTrap;
 use crate::sweep::SweepMetrics;
 use crate::sweep_params::SweepParams;
 
@@ -25,12 +26,17 @@ impl SweepMetrics {
     /// - hinges (revolute) limited to less than a half turn: the part is round about the axis
     ///   (`part_way_round_residual_max`), so turned it lands on itself and moves nothing (a
     ///   round button or cap given a quarter turn);
+    /// - hinges (revolute) turning a panel with a handle one way from rest: the handle's first
+    ///   move pushes it into the panel's face (`handle_opening_cos_min`: a door swung into its
+    ///   oven);
     /// - rotational joints: contact lost at some step while the axis runs away from the parent,
     ///   or severe overlap change (more than `bad_overlap_fraction_max` of steps below
     ///   `overlap_min` and the 10th percentile too; not for a spin of a part round about its
     ///   line, which turns in place);
     /// - short slides: the part moves away from its parent (a button pulled out), or across the
     ///   face it sits on (neither pressing into it nor guided by walls);
+    /// - slides: the parent holds the part from both ends along the axis (`slide_trap_share_min`
+    ///   and `slide_trap_separation_min`: a lid seated in a rim slid sideways);
     /// - hinges (revolute): the part sits in a slot along the axis (walled in on
     ///   `hinge_slot_walled_sides_min` sides across it: a drawer turned about its depth);
     /// - long slides: the part runs in no slot of its parent (walled in on too few sides across
@@ -115,6 +121,13 @@ impl SweepMetrics {
                 params.hinge_bar_cos_min.clamp(0.0, 1.0).acos().to_degrees()
             ));
         }
+        if let Some(cos) = self.opened_away_from_handle(params) {
+            reasons.push(format!(
+                "opens away from its handle: the handle first moves {:.0} degrees from the way its face looks (at most {:.0}); a handle is pulled, so a door or a lid opens toward it",
+                cos.clamp(-1.0, 1.0).acos().to_degrees(),
+                params.handle_opening_cos_min.clamp(-1.0, 1.0).acos().to_degrees()
+            ));
+        }
         if self.hinge_lost_contact() {
             reasons.push(format!(
                 "hinge lost contact with its parent in {} of {} steps",
@@ -162,6 +175,15 @@ impl SweepMetrics {
                     100.0 * params.short_slide_capping_max
                 )
             });
+        }
+        if let Some(trap) = self.slide_trapped(params) {
+            reasons.push(format!(
+                "a slide pushes its part into its parent whichever way it goes: faces of its parent hold it from both ends along the axis ({:.0} % of its contact each way, at least {:.0} %, {:.2} of its length apart, at least {:.2}); a lid seated in a rim lifts out of it, a drawer slides along its slot",
+                100.0 * trap.two_way_share,
+                100.0 * params.slide_trap_share_min,
+                trap.separation,
+                params.slide_trap_separation_min
+            ));
         }
         if self.hinge_in_slot(params) {
             reasons.push(format!(
@@ -234,15 +256,16 @@ impl SweepMetrics {
     /// hinge's mean penetration count as they are; when they fail, lost contact of a turning
     /// joint counts 1 plus ten times its share of steps, a severe overlap change 1 plus five
     /// times its excess of bad steps, a short slide leaving its parent 1 plus its gap over the
-    /// allowed one. Failures no change of range can mend count 2 plus their excess: an axis
-    /// clear of the part, a hinge at its handle or across its bar, a panel hinged away from its
-    /// parent, a panel spun in its own plane, a round part spun off its round line, a short
-    /// slide across its face; a long slide in no slot, a hinge about a slot's axis or a short
-    /// slide the wrong way counts 2.5. 10 without contact at rest. At most 1 when the sweep
-    /// passes: then the margin to each rule (a short slide's gap growth over the allowed one,
-    /// the axis's distance from the part over the allowed one, the least handle distance over
-    /// the handle's), so a press is preferred to a pull and a hinge across the part from its
-    /// handle to one beside it.
+    /// allowed one, a panel opened away from its handle 1 plus its cosine's shortfall. Failures
+    /// no change of range can mend count 2 plus their excess: an axis clear of the part, a hinge
+    /// at its handle or across its bar, a panel hinged away from its parent, a panel spun in its
+    /// own plane, a round part spun off its round line, a short slide across its face; a long
+    /// slide in no slot, a hinge about a slot's axis, a short slide the wrong way or a slide held
+    /// from both ends counts 2.5. 10 without contact at rest. At most 1 when the sweep passes:
+    /// then the margin to each rule (a short slide's gap growth over the allowed one, the axis's
+    /// distance from the part over the allowed one, the least handle distance over the
+    /// handle's), so a press is preferred to a pull and a hinge across the part from its handle
+    /// to one beside it.
     #[must_use]
     pub fn severity(&self, params: &SweepParams) -> f64 {
         if self.initial_contact_points == 0 {
@@ -271,6 +294,9 @@ impl SweepMetrics {
         }
         if self.hinge_lost_contact() {
             s = s.max(1.0 + 10.0 * self.lost_contact_steps as f64 / steps);
+        }
+        if let Some(cos) = self.opened_away_from_handle(params) {
+            s = s.max(1.0 + params.handle_opening_cos_min - cos);
         }
         if self.severe_overlap_change(params) {
             s = s.max(1.0 + 5.0 * (self.bad_overlap_fraction - params.bad_overlap_fraction_max));
@@ -301,6 +327,7 @@ impl SweepMetrics {
         }
         if self.long_slide_unheld(params)
             || self.short_slide_wrong_way(params).is_some()
+            || self.slide_trapped(params).is_some()
             || self.hinge_in_slot(params)
         {
             s = s.max(2.5);
@@ -361,6 +388,13 @@ impl SweepMetrics {
             .filter(|&f| f < params.hinge_handle_fraction_min)
     }
 
+    /// The cosine between a handle's first move and its panel's outer normal, when the hinge
+    /// pushes the handle into the face.
+    fn opened_away_from_handle(&self, params: &SweepParams) -> Option<f64> {
+        self.handle_opening_cos
+            .filter(|&cos| self.kind == JointKind::Revolute && cos < params.handle_opening_cos_min)
+    }
+
     /// A broad sheet's hinge line's mean distance from its parent, when too far.
     fn sheet_hinged_off_parent(&self, params: &SweepParams) -> Option<f64> {
         self.sheet_hinge_off_parent
@@ -419,6 +453,15 @@ impl SweepMetrics {
         self.short_slide_side.filter(|side| {
             (side.surround_share >= params.short_slide_surround_min && side.away > 0.0)
                 || (side.surround_share <= params.short_slide_capping_max && side.away < 0.0)
+        })
+    }
+
+    /// A slide whose parent holds its part from both ends along the axis.
+    fn slide_trapped(&self, params: &SweepParams) -> Option<SlideTrap> {
+        self.slide_trap.filter(|t| {
+            self.kind == JointKind::Prismatic
+                && t.two_way_share >= params.slide_trap_share_min
+                && t.separation >= params.slide_trap_separation_min
         })
     }
 
@@ -531,6 +574,7 @@ impl SweepMetrics {
         let measured = [
             ("handle_reach_fraction", self.handle_reach_fraction),
             ("handle_bar_axis_cos", self.handle_bar_axis_cos),
+            ("handle_opening_cos", self.handle_opening_cos),
             ("sheet_hinge_off_parent", self.sheet_hinge_off_parent),
             ("long_slide_rise", self.long_slide_rise),
             ("part_way_round_residual", self.part_way_round_residual),
@@ -560,6 +604,12 @@ impl SweepMetrics {
                 [
                     ("short_slide_surround_share".to_owned(), s.surround_share),
                     ("short_slide_away".to_owned(), s.away),
+                ]
+            }))
+            .chain(self.slide_trap.into_iter().flat_map(|t| {
+                [
+                    ("slide_trap_two_way_share".to_owned(), t.two_way_share),
+                    ("slide_trap_separation".to_owned(), t.separation),
                 ]
             }))
             .collect()

@@ -65,6 +65,23 @@ fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
     o.assert_reversal_caught_and_undone(i, "sinks");
 }
 
+// An oven's lower door, inset in its frame and hinged at its foot, fits its hollow oven when
+// swung inward: it crosses nothing and its hull sinks little into the oven's. Its pull then goes
+// into the door's face first, and a handle is pulled.
+#[test]
+fn an_oven_door_swung_into_the_oven_away_from_its_handle_is_caught_and_reversed() {
+    let o = object("kitchen-101808");
+    let lower_door = o
+        .movable()
+        .into_iter()
+        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
+        .min_by(|&a, &b| {
+            o.joints[a].pivot_in_object_m[2].total_cmp(&o.joints[b].pivot_in_object_m[2])
+        })
+        .expect("a hinged door");
+    o.assert_reversal_caught_and_undone(lower_door, "opens away from its handle");
+}
+
 #[test]
 fn a_laptop_screen_opened_backwards_through_the_ground_is_caught_and_reversed() {
     let o = object("gensim2-10040");

@@ -6,7 +6,7 @@ use uniphys_types::{Joint, JointLimits};
 
 use crate::support::{
     assert_correction_keeps_true_axis, assert_range_overlaps_truth, assert_restored_to_true_line,
-    object, part_diagonal, reversed, sideways,
+    line_angle_deg, object, part_diagonal, reversed, sideways,
 };
 
 #[test]
@@ -153,5 +153,42 @@ fn a_drawer_turned_about_its_slide_axis_is_caught_and_slides_again() {
             DVec3::from_array(fixed.axis_in_object).dot(DVec3::from_array(truth.axis_in_object));
         assert!(same_way > 0.999, "{change}: {fixed:?}");
         assert_range_overlaps_truth(&fixed, &truth, &change);
+    }
+}
+
+// A pot's lid and a bottle's lid sit in their rims. Slid sideways, the lid's skirt runs into the
+// rim, which the sweep's crossings miss (the skirt stays within the rim's hull), but the rim
+// holds the lid from both ends along the slide. The lift is found again.
+#[test]
+fn lids_slid_sideways_in_their_rims_are_caught_and_lifted_again() {
+    for name in ["gensim2-100015", "kitchen-8848"] {
+        let o = object(name);
+        let i = o.movable()[0];
+        let truth = o.joints[i].clone();
+        let verdict = o.caught(i, sideways(&truth));
+        assert!(
+            verdict.message.contains("from both ends"),
+            "{name}: {}",
+            verdict.message
+        );
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert!(
+            line_angle_deg(fixed.axis_in_object, truth.axis_in_object) < 2.0,
+            "{name}: {change}"
+        );
+        assert_range_overlaps_truth(&fixed, &truth, name);
+    }
+}
+
+// A stapler's body hinge fails its sweep (its arm sinks into the base's hull). Its pin is held in
+// the base's two knuckles from both ends, so a slide along the pin, which used to pass and
+// replaced the true hinge, is no correction.
+#[test]
+fn a_stapler_body_is_not_slid_along_its_pin() {
+    let o = object("kitchen-103307");
+    let i = o.movable()[0];
+    let verdict = o.verify(&o.joints, i);
+    if let Some((fixed, change)) = verdict.correction {
+        assert_ne!(fixed.kind, uniphys_types::JointKind::Prismatic, "{change}");
     }
 }
