@@ -141,8 +141,9 @@ pub struct SweepParams {
     pub in_plane_round_max: f64,
     /// ... nor held across both faces (below this share of the samples with a still surface
     /// close over or under them have one on both sides: the folding knife blades of real
-    /// objects between their handle's scales 1.0; doors and lids lying on one face of their
-    /// parent 0).
+    /// objects between their handle's scales 1.0; a laptop's screen whose foot sits between its
+    /// base's hinge blocks 0.52; doors and lids lying on one face of their parent 0). A panel
+    /// in a slot is held on both faces nearly wherever it is held at all.
     pub in_plane_sandwiched_share_min: f64,
     /// A continuous joint fails when it spins a part that is round about another line about a
     /// line it is not round about: its roundness residual about the joint's line above this
@@ -205,7 +206,7 @@ impl Default for SweepParams {
             hinge_slot_walled_sides_min: 3,
             hinge_sink_mean_max: 2.0,
             in_plane_round_max: 0.1,
-            in_plane_sandwiched_share_min: 0.5,
+            in_plane_sandwiched_share_min: 0.75,
             off_round_residual_min: 0.06,
             part_way_round_residual_max: 0.03,
             below_ground_fraction_max: 0.05,

@@ -212,6 +212,21 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
     o.assert_sideways_caught_and_restored(o.movable()[0], "like a clock hand");
 }
 
+// A laptop's screen spun about its own normal: its foot sits between the base's hinge blocks,
+// so about half of the screen's samples near a still surface have one on both faces. Only a
+// panel in a slot, held on both faces nearly wherever it is held (a knife's blade between its
+// scales), turns so.
+#[test]
+fn a_laptop_screen_spun_in_its_own_plane_between_its_hinge_blocks_is_caught() {
+    let o = object("gensim2-10040");
+    let screen = o
+        .movable()
+        .into_iter()
+        .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
+        .expect("the laptop's screen");
+    o.assert_sideways_caught_and_restored(screen, "like a clock hand");
+}
+
 // A stove's round knobs spin without limit (true joints). Made revolute joints a quarter turn,
 // each lands on itself and moves nothing: caught, and spun about the same line again. The sweep
 // would also let each be pushed a few millimetres into the panel; what keeps a knob turning is
