@@ -1,12 +1,13 @@
-//! Feedback correction of a joint that failed its sweep, in tiers of growing change: the range
-//! reversed or cut where the sweep first failed; for a part that spins in place, the line it is
-//! round about; another pivot on the same axis (contact clusters, the part's edge lines, its
-//! edges' cross-sections, the centres of its rounded ends and, for a panel its parent holds on
-//! both faces, of the held region), keeping the direction, then reversing it; another axis (for
-//! a slide first the normal of the face it touches and the axis of the walls around it; then the
-//! directions a mechanism is built square to near the candidates: the vertical of an object on
-//! the ground, the parent's box axes; for a panel its parent holds on both faces, its normal
-//! through the held pin); the other kind of motion (slide for turn, turn for slide).
+//! Feedback correction of a joint that failed its sweep, in tiers of growing change: for a slide
+//! that pulled a round part with a grip off the broad face it stands on (a knob), a spin about its
+//! own line first; the range reversed or cut where the sweep first failed; for a part that spins in
+//! place, the line it is round about; another pivot on the same axis (contact clusters, the part's
+//! edge lines, its edges' cross-sections, the centres of its rounded ends and, for a panel its
+//! parent holds on both faces, of the held region), keeping the direction, then reversing it;
+//! another axis (for a slide first the normal of the face it touches and the axis of the walls
+//! around it; then the directions a mechanism is built square to near the candidates: the vertical
+//! of an object on the ground, the parent's box axes; for a panel its parent holds on both faces,
+//! its normal through the held pin); the other kind of motion (slide for turn, turn for slide).
 //!
 //! Within a tier the passing variant that fits the parts best wins (`fit::misfit`: a hinge along
 //! its parent and across from the handle, a spin about the part's own round axis, a slide that
@@ -32,7 +33,7 @@ use uniphys_types::{Joint, JointKind, JointLimits};
 
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
-use crate::fit::{may_spin, misfit, round_axis};
+use crate::fit::{may_spin, misfit, round_axis, spin_residual};
 use crate::held::{contact_normal_tensor, mean, slide_touch_m};
 use crate::in_plane::held_pivots;
 use crate::part_box::PartBox;
@@ -137,8 +138,12 @@ pub(crate) fn correct_failed(
             change_tiers(scene, joint, moving, params, nearly_passed)
         }
     });
-    for (t, tier) in range_tiers(joint, original)
+    let knob = knob_spin_tiers(scene, joint, original, params);
+    // The range tiers' first, where a cut makes way for the reversal.
+    let first_range_tier = knob.len();
+    for (t, tier) in knob
         .into_iter()
+        .chain(range_tiers(joint, original))
         .chain(later.flatten())
         .enumerate()
     {
@@ -223,7 +228,7 @@ pub(crate) fn correct_failed(
             misfit: fit,
         });
         if fit <= MISFIT_MARGIN {
-            if cut && t == 0 {
+            if cut && t == first_range_tier {
                 // The reversal's tier comes next: it is tried, then the search ends.
                 last_tier = Some(t + 1);
             } else {
@@ -549,6 +554,41 @@ fn round_part_tiers(scene: &Scene, joint: &Joint) -> Vec<Vec<Variant>> {
         })
         .collect();
     vec![press, spin]
+}
+
+/// A slide (`joint`) that pulled its part off the broad face it stands on
+/// ([`SweepMetrics::pulled_off_broad_face`], its sweep `original`) moved a knob or a button
+/// along its own line. A part round about that line with a grip (a knob: not
+/// [`RoundAxis::pressed`], as the grounder reads it) is spun about it, a tier before the range
+/// tiers; a button, or a part round about no line, is left to them (reversed, it is pressed in).
+fn knob_spin_tiers(
+    scene: &Scene,
+    joint: &Joint,
+    original: &SweepMetrics,
+    params: &SweepParams,
+) -> Vec<Vec<Variant>> {
+    if joint.kind != JointKind::Prismatic || !original.pulled_off_broad_face(params) {
+        return Vec::new();
+    }
+    let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
+    let (child, parent) = (joint.child.0 as usize, joint.parent.0 as usize);
+    let child_points = scene.points_of(&[child]);
+    let centre = centre_about(&child_points, axis);
+    if spin_residual(&child_points, axis, centre) > params.part_way_round_residual_max {
+        return Vec::new();
+    }
+    let diagonal_m = PartBox::of(&child_points).diagonal;
+    let round = RoundAxis::about_line(scene, child, &child_points, diagonal_m, axis, centre);
+    if round.pressed(scene, parent, &child_points, diagonal_m) {
+        return Vec::new();
+    }
+    vec![vec![Variant {
+        joint: changed(joint, JointKind::Continuous, axis, centre, None),
+        change: format!(
+            "made a spin about its own line through ({:.4}, {:.4}, {:.4}): a knob pulled off the face it stands on",
+            centre.x, centre.y, centre.z
+        ),
+    }]]
 }
 
 /// A turning `joint` made a slide along `axis`, both ways, over [`SLIDE_TRAVEL_FRACTIONS`] of

@@ -2,10 +2,12 @@
 //! protruding from or flush with a face of its parent, moving along that face's normal).
 //!
 //! A part set into a face of its parent that continues around it on every side (a button, a
-//! key) is at its outer stop at rest: it is pressed in, toward its parent. A part that caps its
-//! parent's end, with no face of the parent around it (a lid on a pot, a cap on a jar), lifts
-//! off, away from its parent. Both are read at rest, from the parent's own triangles around the
-//! part's outline where the two meet.
+//! key) is at its outer stop at rest: it is pressed in, toward its parent. So is a part standing
+//! on a broad face of its parent (a knob or a button on an appliance's front): nothing pulls it
+//! off. A part that caps its parent's end, with no face of the parent around it and the parent
+//! no wider than itself there (a lid on a pot, a cap on a jar), lifts off, away from its parent.
+//! All are read at rest, from the parent's own triangles around the part's outline where the two
+//! meet and from how far the parent reaches from the part's axis around that level.
 
 use std::f64::consts::TAU;
 
@@ -36,7 +38,15 @@ pub struct SlideSide {
     /// positive side of the parent's middle along the travel), -1 toward it, 0 when the two
     /// middles are level along the axis and the side cannot be read.
     pub away: f64,
+    /// How far the parent reaches from the part's axis around the level where they touch (the
+    /// 95th percentile over its samples within the part's radius of that level along the axis),
+    /// over the part's radius: about 1 where the part caps its parent's end (a lid, a cap), tens
+    /// for a part on a broad face (a knob on an oven's front); 0 without parent samples there.
+    pub parent_reach_ratio: f64,
 }
+
+/// Percentile of the parent's reach from the part's axis taken as its reach.
+const REACH_PERCENTILE: f64 = 95.0;
 
 /// The side of the short slide along unit `axis` (travel `lower..upper`, the larger side
 /// counting) of the `moving` samples on `parent`, where `touching` are the moving samples
@@ -82,9 +92,22 @@ pub(crate) fn slide_side(
     } else {
         0.0
     };
+    let mut reach_m: Vec<f64> = parent_points
+        .iter()
+        .filter(|p| ((**p - centre).dot(axis) - level).abs() <= radius_m)
+        .map(|p| (*p - centre).reject_from_normalized(axis).length())
+        .collect();
+    let parent_reach_ratio = if reach_m.is_empty() {
+        0.0
+    } else {
+        reach_m.sort_by(f64::total_cmp);
+        let rank = (REACH_PERCENTILE / 100.0 * (reach_m.len() - 1) as f64).round() as usize;
+        reach_m[rank] / radius_m
+    };
     Some(SlideSide {
         surround_share: surrounded as f64 / DIRECTIONS as f64,
         away,
+        parent_reach_ratio,
     })
 }
 
@@ -112,6 +135,8 @@ mod tests {
         assert_eq!(pressed.away, -1.0);
         let pulled = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.01)).expect("side");
         assert_eq!(pulled.away, 1.0);
+        // The panel reaches about ten times the button's half diagonal from its axis.
+        assert!(pulled.parent_reach_ratio > 5.0, "{pulled:?}");
     }
 
     #[test]
@@ -129,5 +154,7 @@ mod tests {
         let lifted = slide_side(&s, 0, &moving, &touch, DVec3::Z, (0.0, 0.05)).expect("side");
         assert_eq!(lifted.surround_share, 0.0);
         assert_eq!(lifted.away, 1.0);
+        // The post is the lid's width.
+        assert!(lifted.parent_reach_ratio <= 1.01, "{lifted:?}");
     }
 }

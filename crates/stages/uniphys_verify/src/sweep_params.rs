@@ -50,8 +50,14 @@ pub struct SweepParams {
     /// at its outer stop at rest (true buttons of real objects: 0.81 to 1) ...
     pub short_slide_surround_min: f64,
     /// ... and one surrounded in at most this share (a lid capping its parent's end) must go
-    /// away from it: it lifts off (true lids of real objects: 0 to 0.13).
+    /// away from it: it lifts off (true lids of real objects: 0 to 0.13) ...
     pub short_slide_capping_max: f64,
+    /// ... when its parent reaches at most this many times the part's radius from its axis
+    /// around the level where they touch ([`crate::SlideSide::parent_reach_ratio`]: true lids
+    /// and caps of real objects 1.0 to 1.5); a part on a broader face (knobs and buttons on
+    /// appliances' fronts: 28 to 52) must go toward its parent, however little of the face
+    /// shows just outside its outline.
+    pub short_slide_cap_reach_max: f64,
     /// A short slide presses into (or lifts off) the face it sits on, or slides along walls
     /// that guide it. Where its moving samples touch the parent at rest (within
     /// `rest_contact_part_fraction` of the group's diagonal), the parent's surface normals give
@@ -191,6 +197,7 @@ impl Default for SweepParams {
             short_slide_press_min: 0.5,
             short_slide_surround_min: 0.75,
             short_slide_capping_max: 0.25,
+            short_slide_cap_reach_max: 3.0,
             short_slide_guidance_min: 0.15,
             slide_trap_share_min: 0.08,
             slide_trap_separation_min: 0.2,

@@ -33,8 +33,10 @@ impl SweepMetrics {
     ///   or severe overlap change (more than `bad_overlap_fraction_max` of steps below
     ///   `overlap_min` and the 10th percentile too; not for a spin of a part round about its
     ///   line, which turns in place);
-    /// - short slides: the part moves away from its parent (a button pulled out), or across the
-    ///   face it sits on (neither pressing into it nor guided by walls);
+    /// - short slides: the part moves away from a face of its parent that surrounds it or
+    ///   reaches far around it (a button or a knob pulled out), into a parent whose end it caps
+    ///   (a lid pushed in), or across the face it sits on (neither pressing into it nor guided
+    ///   by walls);
     /// - slides: the parent holds the part from both ends along the axis (`slide_trap_share_min`
     ///   and `slide_trap_separation_min`: a lid seated in a rim slid sideways);
     /// - hinges (revolute): the part sits in a slot along the axis (walled in on
@@ -162,7 +164,12 @@ impl SweepMetrics {
             ));
         }
         if let Some(side) = self.short_slide_wrong_way(params) {
-            reasons.push(if side.away > 0.0 {
+            reasons.push(if self.pulled_off_broad_face(params) {
+                format!(
+                    "a short slide pulls its part off the broad face it stands on (its parent reaches {:.1} times the part's radius from its axis there, a part capping its parent's end at most {:.1}): a knob or a button is pressed in, toward its parent",
+                    side.parent_reach_ratio, params.short_slide_cap_reach_max
+                )
+            } else if side.away > 0.0 {
                 format!(
                     "a short slide pulls its part out of the face around it (surrounded in {:.0} % of the directions, at least {:.0} %): a button is pressed in, toward its parent",
                     100.0 * side.surround_share,
@@ -447,13 +454,36 @@ impl SweepMetrics {
             && self.short_slide_guidance < params.short_slide_guidance_min
     }
 
-    /// A short slide goes the wrong way: out of a face that surrounds its part, or into the
-    /// parent its part caps.
+    /// A short slide goes the wrong way: out of a face that surrounds its part or off a broad
+    /// face it stands on, or into the parent its part caps.
     fn short_slide_wrong_way(&self, params: &SweepParams) -> Option<SlideSide> {
         self.short_slide_side.filter(|side| {
-            (side.surround_share >= params.short_slide_surround_min && side.away > 0.0)
-                || (side.surround_share <= params.short_slide_capping_max && side.away < 0.0)
+            let held_on_face = side.surround_share >= params.short_slide_surround_min
+                || Self::on_broad_face(side, params);
+            (held_on_face && side.away > 0.0)
+                || (Self::caps_parent(side, params) && side.away < 0.0)
         })
+    }
+
+    /// A short slide pulls its part off a broad face of its parent it stands on, though little
+    /// of the face shows just outside its outline ([`Self::on_broad_face`]).
+    pub(crate) fn pulled_off_broad_face(&self, params: &SweepParams) -> bool {
+        self.short_slide_wrong_way(params)
+            .is_some_and(|side| side.away > 0.0 && Self::on_broad_face(&side, params))
+    }
+
+    /// A short slide's part caps its parent's end: no face of the parent just outside its
+    /// outline, and the parent no wider than a few times the part there.
+    fn caps_parent(side: &SlideSide, params: &SweepParams) -> bool {
+        side.surround_share <= params.short_slide_capping_max
+            && side.parent_reach_ratio <= params.short_slide_cap_reach_max
+    }
+
+    /// A short slide's part stands on a face of its parent reaching far around it, though
+    /// little of the face shows just outside its outline (a knob in a ring-shaped recess).
+    fn on_broad_face(side: &SlideSide, params: &SweepParams) -> bool {
+        side.surround_share < params.short_slide_surround_min
+            && side.parent_reach_ratio > params.short_slide_cap_reach_max
     }
 
     /// A slide whose parent holds its part from both ends along the axis.
@@ -604,6 +634,10 @@ impl SweepMetrics {
                 [
                     ("short_slide_surround_share".to_owned(), s.surround_share),
                     ("short_slide_away".to_owned(), s.away),
+                    (
+                        "short_slide_parent_reach_ratio".to_owned(),
+                        s.parent_reach_ratio,
+                    ),
                 ]
             }))
             .chain(self.slide_trap.into_iter().flat_map(|t| {

@@ -1,7 +1,7 @@
 //! Slides that run the wrong way, and turns made slides, are caught and put back: drawers in
 //! their frames, buttons into their faces, doors and screens hinged again.
 
-use uniphys_geometry::{Aabb, DVec3};
+use uniphys_geometry::{Aabb, DVec3, projection_range};
 use uniphys_types::{Joint, JointLimits};
 
 use crate::support::{
@@ -190,5 +190,46 @@ fn a_stapler_body_is_not_slid_along_its_pin() {
     let verdict = o.verify(&o.joints, i);
     if let Some((fixed, change)) = verdict.correction {
         assert_ne!(fixed.kind, uniphys_types::JointKind::Prismatic, "{change}");
+    }
+}
+
+// An oven's knobs sit in ring-shaped recesses of its control panel: little of the panel shows
+// just outside their outline, so a slide pulling one out of its recess read as a cap lifted off
+// its parent's end. The panel reaches about thirty times a knob's radius around it: a knob is not
+// pulled off. Its grip makes it a knob, not a button, so it is spun about its own line again.
+#[test]
+fn oven_knobs_pulled_off_their_panel_are_caught_and_spun_again() {
+    let o = object("kitchen-101808");
+    let knobs: Vec<usize> = o
+        .movable_of(uniphys_types::JointKind::Revolute)
+        .into_iter()
+        .filter(|&i| {
+            o.joints[i]
+                .limits
+                .is_some_and(|l| l.upper - l.lower > std::f64::consts::PI)
+        })
+        .collect();
+    assert!(!knobs.is_empty(), "the oven has knobs");
+    for i in knobs {
+        let truth = o.joints[i].clone();
+        let axis = DVec3::from_array(truth.axis_in_object).normalize();
+        let (lo, hi) = projection_range(&o.scene.points_of(&[truth.child.0 as usize]), axis);
+        let pulled = Joint {
+            kind: uniphys_types::JointKind::Prismatic,
+            limits: Some(JointLimits {
+                lower: 0.0,
+                upper: 0.5 * (hi - lo),
+            }),
+            ..truth.clone()
+        };
+        let verdict = o.caught(i, pulled);
+        assert!(
+            verdict.message.contains("off the broad face"),
+            "{}",
+            verdict.message
+        );
+        assert_restored_to_true_line(&verdict, &truth, part_diagonal(&o, truth.child.0));
+        let (fixed, change) = verdict.correction.expect("corrected");
+        assert_eq!(fixed.kind, uniphys_types::JointKind::Continuous, "{change}");
     }
 }
