@@ -401,21 +401,24 @@ mod tests {
         points
     }
 
+    /// The handle of [`door_with_side_bar`] seen from the hinge through `pivot` along `axis`,
+    /// the wall behind the door its parent.
+    fn side_bar_on_hinge(axis: DVec3, pivot: DVec3) -> Option<HandleOnHinge> {
+        let points = door_with_side_bar();
+        handle_on_hinge(
+            &Boxed::new(&points),
+            &Boxed::new(&points),
+            &wall(&[]),
+            axis,
+            pivot,
+            -DVec3::Y,
+        )
+    }
+
     #[test]
     fn a_hinge_lies_across_the_door_from_its_handle() {
-        let points = door_with_side_bar();
-        let parent = wall(&[]);
-        let fraction = |x: f64| {
-            handle_on_hinge(
-                &Boxed::new(&points),
-                &Boxed::new(&points),
-                &parent,
-                DVec3::Z,
-                DVec3::new(x, 0.0, 0.0),
-                -DVec3::Y,
-            )
-            .map(|h| h.reach_fraction)
-        };
+        let fraction =
+            |x: f64| side_bar_on_hinge(DVec3::Z, DVec3::new(x, 0.0, 0.0)).map(|h| h.reach_fraction);
         // Hinged on the left edge, the handle is at 0.55 of the 0.6 reach.
         let far = fraction(-0.3).expect("a handle");
         assert!((far - 0.55 / 0.6).abs() < 0.05, "{far}");
@@ -423,32 +426,15 @@ mod tests {
         let near = fraction(0.3).expect("a handle");
         assert!(near < 0.2, "{near}");
         // A spin about the door's normal is no hinge along its edge.
-        let spin = handle_on_hinge(
-            &Boxed::new(&points),
-            &Boxed::new(&points),
-            &parent,
-            DVec3::Y,
-            DVec3::ZERO,
-            -DVec3::Y,
-        );
-        assert!(spin.is_none());
+        assert!(side_bar_on_hinge(DVec3::Y, DVec3::ZERO).is_none());
     }
 
     #[test]
     fn a_bar_handle_runs_along_its_hinge() {
-        let points = door_with_side_bar();
-        let parent = wall(&[]);
         let bar_cos = |axis: DVec3, pivot: DVec3| {
-            handle_on_hinge(
-                &Boxed::new(&points),
-                &Boxed::new(&points),
-                &parent,
-                axis,
-                pivot,
-                -DVec3::Y,
-            )
-            .and_then(|h| h.bar_axis_cos)
-            .expect("a bar")
+            side_bar_on_hinge(axis, pivot)
+                .and_then(|h| h.bar_axis_cos)
+                .expect("a bar")
         };
         // The vertical bar along the door's vertical hinge on its left edge ...
         assert!(bar_cos(DVec3::Z, DVec3::new(-0.3, 0.0, 0.0)) > 0.99);
@@ -458,19 +444,9 @@ mod tests {
 
     #[test]
     fn a_door_opening_outward_pulls_its_handle_out_of_its_face() {
-        let points = door_with_side_bar();
-        let parent = wall(&[]);
         // Hinged on its left edge, its outer face toward -y, with the wall behind it at +y.
         let (axis, pivot) = (DVec3::Z, DVec3::new(-0.3, 0.0, 0.0));
-        let handle = handle_on_hinge(
-            &Boxed::new(&points),
-            &Boxed::new(&points),
-            &parent,
-            axis,
-            pivot,
-            -DVec3::Y,
-        )
-        .expect("a handle");
+        let handle = side_bar_on_hinge(axis, pivot).expect("a handle");
         assert!(handle.outward.dot(-DVec3::Y) > 0.99, "{handle:?}");
         // Turned toward negative angles about +z, the right edge comes out toward -y.
         let out = handle.opening_cos(axis, pivot, -1.0).expect("off the line");

@@ -11,7 +11,7 @@
 //! Faces facing both ways at one place (a part drawn slightly into its parent at rest, whose
 //! samples lie on both sides of the face) hold nothing from the two ends.
 
-use uniphys_geometry::DVec3;
+use uniphys_geometry::{DVec3, projection_range};
 
 use crate::scene::Scene;
 
@@ -67,12 +67,7 @@ pub(crate) fn slide_trap(
     if touching < 3 {
         return None;
     }
-    let (lo, hi) = moving
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-            let t = p.dot(axis);
-            (lo.min(t), hi.max(t))
-        });
+    let (lo, hi) = projection_range(moving, axis);
     let extent = (hi - lo).max(1e-12);
     let mean = |(w, wt): (f64, f64)| if w > 0.0 { wt / w } else { 0.0 };
     let separation = if along.0 > 0.0 && against.0 > 0.0 {

@@ -219,11 +219,7 @@ fn a_microwave_door_spun_in_its_own_plane_is_caught_and_hinged_back_on_its_edge(
 #[test]
 fn a_laptop_screen_spun_in_its_own_plane_between_its_hinge_blocks_is_caught() {
     let o = object("gensim2-10040");
-    let screen = o
-        .movable()
-        .into_iter()
-        .find(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
-        .expect("the laptop's screen");
+    let screen = o.movable_of(uniphys_types::JointKind::Revolute)[0];
     o.assert_sideways_caught_and_restored(screen, "like a clock hand");
 }
 

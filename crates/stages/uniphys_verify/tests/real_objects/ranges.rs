@@ -72,9 +72,8 @@ fn a_cabinet_door_swung_into_its_hollow_cabinet_is_caught_and_reversed() {
 fn an_oven_door_swung_into_the_oven_away_from_its_handle_is_caught_and_reversed() {
     let o = object("kitchen-101808");
     let lower_door = o
-        .movable()
+        .movable_of(uniphys_types::JointKind::Revolute)
         .into_iter()
-        .filter(|&i| o.joints[i].kind == uniphys_types::JointKind::Revolute)
         .min_by(|&a, &b| {
             o.joints[a].pivot_in_object_m[2].total_cmp(&o.joints[b].pivot_in_object_m[2])
         })
