@@ -34,7 +34,7 @@ use uniphys_types::{Joint, JointKind, JointLimits};
 use crate::VerifyResult;
 use crate::candidates::{articulation_candidates, band_pivots, distinct_lines, edge_pivots};
 use crate::fit::{may_spin, misfit, round_axis, spin_residual};
-use crate::held::{contact_normal_tensor, mean, slide_touch_m};
+use crate::held::{contact_normal_tensor, mean, slide_touch_m, touches};
 use crate::in_plane::held_pivots;
 use crate::part_box::PartBox;
 use crate::round_axis::{RoundAxis, centre_about, push_travel_m};
@@ -438,12 +438,17 @@ fn change_tiers(
     // candidates, then the candidates from the contact and the part's box.
     let contact_axes: Vec<DVec3> = if joint.kind == JointKind::Prismatic {
         let touch_m = slide_touch_m(params, &moving_points);
-        contact_normal_tensor(scene, joint.parent.0 as usize, &moving_points, touch_m)
-            .map(|tensor| {
-                let (_, vectors) = symmetric_eigen(tensor);
-                vec![vectors.z_axis, vectors.x_axis]
-            })
-            .unwrap_or_default()
+        contact_normal_tensor(&touches(
+            scene,
+            joint.parent.0 as usize,
+            &moving_points,
+            touch_m,
+        ))
+        .map(|tensor| {
+            let (_, vectors) = symmetric_eigen(tensor);
+            vec![vectors.z_axis, vectors.x_axis]
+        })
+        .unwrap_or_default()
     } else {
         Vec::new()
     };
@@ -527,17 +532,15 @@ fn round_part_tiers(scene: &Scene, joint: &Joint) -> Vec<Vec<Variant>> {
         joint: changed(joint, JointKind::Continuous, axis, pivot, None),
         change: "made a spin about the same line".to_owned(),
     }];
-    let (child, parent) = (joint.child.0 as usize, joint.parent.0 as usize);
-    let child_points = scene.points_of(&[child]);
-    let diagonal_m = PartBox::of(&child_points).diagonal;
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
     let middle = centre_about(&child_points, axis);
-    let round = RoundAxis::about_line(scene, child, &child_points, diagonal_m, axis, middle);
-    if !round.pressed(scene, parent, &child_points, diagonal_m) {
+    let (round, pressed) = child_about_line(scene, joint, &child_points, axis, middle);
+    if !pressed {
         return vec![spin, slide_tier(joint, &child_points, axis, pivot)];
     }
     let (lo, hi) = projection_range(&child_points, axis);
     let stroke = push_travel_m(hi - lo, round.width_m);
-    let inward = (mean(&scene.samples[parent]) - mean(&child_points)).dot(axis);
+    let inward = (mean(&scene.samples[joint.parent.0 as usize]) - mean(&child_points)).dot(axis);
     let press = PRESS_STROKE_FRACTIONS
         .iter()
         .map(|fraction| {
@@ -571,15 +574,11 @@ fn knob_spin_tiers(
         return Vec::new();
     }
     let axis = DVec3::from_array(joint.axis_in_object).normalize_or_zero();
-    let (child, parent) = (joint.child.0 as usize, joint.parent.0 as usize);
-    let child_points = scene.points_of(&[child]);
+    let child_points = scene.points_of(&[joint.child.0 as usize]);
     let centre = centre_about(&child_points, axis);
-    if spin_residual(&child_points, axis, centre) > params.part_way_round_residual_max {
-        return Vec::new();
-    }
-    let diagonal_m = PartBox::of(&child_points).diagonal;
-    let round = RoundAxis::about_line(scene, child, &child_points, diagonal_m, axis, centre);
-    if round.pressed(scene, parent, &child_points, diagonal_m) {
+    if spin_residual(&child_points, axis, centre) > params.part_way_round_residual_max
+        || child_about_line(scene, joint, &child_points, axis, centre).1
+    {
         return Vec::new();
     }
     vec![vec![Variant {
@@ -589,6 +588,23 @@ fn knob_spin_tiers(
             centre.x, centre.y, centre.z
         ),
     }]]
+}
+
+/// The shape of `joint`'s child (sampled at `child_points`) about the line along `axis` through
+/// `through`, and whether a hand would press it rather than turn it ([`RoundAxis::pressed`], the
+/// grounder's test).
+fn child_about_line(
+    scene: &Scene,
+    joint: &Joint,
+    child_points: &[DVec3],
+    axis: DVec3,
+    through: DVec3,
+) -> (RoundAxis, bool) {
+    let child = joint.child.0 as usize;
+    let diagonal_m = PartBox::of(child_points).diagonal;
+    let round = RoundAxis::about_line(scene, child, child_points, diagonal_m, axis, through);
+    let pressed = round.pressed(scene, joint.parent.0 as usize, child_points, diagonal_m);
+    (round, pressed)
 }
 
 /// A turning `joint` made a slide along `axis`, both ways, over [`SLIDE_TRAVEL_FRACTIONS`] of

@@ -94,18 +94,6 @@ impl Surfaces {
         Some(f64::from((local - projection.point).length()))
     }
 
-    /// Unit normal of the triangle of `part` nearest to `point` (object frame), if one lies
-    /// within `max_distance_m`.
-    pub(crate) fn nearest_normal(
-        &self,
-        part: usize,
-        point: DVec3,
-        max_distance_m: f64,
-    ) -> Option<DVec3> {
-        self.nearest_with_normal(part, point, max_distance_m)
-            .map(|(_, n)| n)
-    }
-
     /// The point of `part`'s surface nearest to `point` (object frame) and its triangle's unit
     /// normal (as the triangle is wound), if one lies within `max_distance_m`.
     pub(crate) fn nearest_with_normal(

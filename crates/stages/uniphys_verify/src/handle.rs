@@ -246,12 +246,12 @@ pub(crate) fn handle_on_hinge(
     {
         return None;
     }
-    let off_line = |p: DVec3| (p - pivot).reject_from_normalized(axis).length();
+    let centre = mean(&standing);
     let reach = farthest_from_line_m(group.points, pivot, axis);
     (reach > 0.0).then(|| HandleOnHinge {
-        reach_fraction: off_line(mean(&standing)) / reach,
+        reach_fraction: (centre - pivot).reject_from_normalized(axis).length() / reach,
         bar_axis_cos: bar_direction(&standing).map(|d| d.dot(axis).abs()),
-        centre: mean(&standing),
+        centre,
         outward,
     })
 }

@@ -92,24 +92,42 @@ pub(crate) fn hinge_to_parent_m(
     }
 }
 
-/// The tensor (mean of `n n^T`) of the parent's triangle normals `n` where the `moving` samples
-/// touch `parent` (within `touch_m`); `None` with fewer than 3 touching samples. Its largest
-/// eigenvector is the normal of a face the part sits on, its smallest the axis of walls around
-/// it.
-pub(crate) fn contact_normal_tensor(
-    scene: &Scene,
-    parent: usize,
-    moving: &[DVec3],
-    touch_m: f64,
-) -> Option<DMat3> {
-    let normals: Vec<DVec3> = moving
+/// A moving sample within touch distance of its parent at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Touch {
+    /// The sample.
+    pub(crate) sample: DVec3,
+    /// The point of the parent's surface nearest to it.
+    pub(crate) nearest: DVec3,
+    /// The unit normal of the parent's triangle there, as the triangle is wound.
+    pub(crate) normal: DVec3,
+}
+
+/// The `moving` samples within `touch_m` of `parent`'s surface, each with the nearest point of
+/// that surface and its triangle's normal.
+pub(crate) fn touches(scene: &Scene, parent: usize, moving: &[DVec3], touch_m: f64) -> Vec<Touch> {
+    moving
         .iter()
-        .filter_map(|p| scene.surfaces.nearest_normal(parent, *p, touch_m))
-        .collect();
-    (normals.len() >= 3).then(|| {
-        normals.iter().fold(DMat3::ZERO, |t, n| {
-            t + DMat3::from_cols(*n * n.x, *n * n.y, *n * n.z)
-        }) * (1.0 / normals.len() as f64)
+        .filter_map(|p| {
+            let (nearest, normal) = scene.surfaces.nearest_with_normal(parent, *p, touch_m)?;
+            Some(Touch {
+                sample: *p,
+                nearest,
+                normal,
+            })
+        })
+        .collect()
+}
+
+/// The tensor (mean of `n n^T`) of the parent's triangle normals `n` where moving samples touch
+/// it ([`touches`]); `None` with fewer than 3 touching samples. Its largest eigenvector is the
+/// normal of a face the part sits on, its smallest the axis of walls around it.
+pub(crate) fn contact_normal_tensor(touches: &[Touch]) -> Option<DMat3> {
+    (touches.len() >= 3).then(|| {
+        touches.iter().fold(DMat3::ZERO, |t, touch| {
+            let n = touch.normal;
+            t + DMat3::from_cols(n * n.x, n * n.y, n * n.z)
+        }) * (1.0 / touches.len() as f64)
     })
 }
 

@@ -13,7 +13,7 @@
 
 use uniphys_geometry::{DVec3, projection_range};
 
-use crate::scene::Scene;
+use crate::held::Touch;
 
 /// How a slide along an axis is held by its parent from the two ends along it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,11 +33,11 @@ pub struct SlideTrap {
 /// side it is on is unknown.
 const ON_FACE_FRACTION: f64 = 1e-4;
 
-/// The [`SlideTrap`] of a slide of the parts sampled at `moving` along unit `axis`, from the
-/// faces of `parent` within `touch_m` of them; `None` with fewer than 3 samples off a face.
+/// The [`SlideTrap`] of a slide of the parts sampled at `moving` along unit `axis`, from where
+/// they touch their parent within `touch_m` ([`touches`](crate::held::touches)); `None` with
+/// fewer than 3 samples off a face.
 pub(crate) fn slide_trap(
-    scene: &Scene,
-    parent: usize,
+    touches: &[Touch],
     moving: &[DVec3],
     touch_m: f64,
     axis: DVec3,
@@ -46,20 +46,16 @@ pub(crate) fn slide_trap(
     let mut touching = 0usize;
     // (weight, weighted position along the axis) of faces facing along the axis and against it.
     let (mut along, mut against) = ((0.0, 0.0), (0.0, 0.0));
-    for p in moving {
-        let Some((nearest, normal)) = scene.surfaces.nearest_with_normal(parent, *p, touch_m)
-        else {
-            continue;
-        };
-        let off = (*p - nearest).dot(normal);
+    for touch in touches {
+        let off = (touch.sample - touch.nearest).dot(touch.normal);
         if off.abs() <= on_face_m {
             continue;
         }
         touching += 1;
-        let facing = normal * off.signum();
+        let facing = touch.normal * off.signum();
         let c = facing.dot(axis);
         let w = c * c;
-        let at = p.dot(axis);
+        let at = touch.sample.dot(axis);
         let side = if c > 0.0 { &mut along } else { &mut against };
         side.0 += w;
         side.1 += w * at;
@@ -86,6 +82,8 @@ mod tests {
     use uniphys_geometry::TriMesh;
 
     use super::*;
+    use crate::held::touches;
+    use crate::scene::Scene;
 
     /// A block standing 1 mm above a plate between two walls 2 mm from its ends along x.
     fn block_between_walls() -> Scene {
@@ -102,11 +100,13 @@ mod tests {
     fn a_block_between_two_walls_is_trapped_along_them_and_free_to_lift() {
         let s = block_between_walls();
         let moving = s.points_of(&[1]);
-        let across = slide_trap(&s, 0, &moving, 0.02, DVec3::X).expect("touching");
+        let across =
+            slide_trap(&touches(&s, 0, &moving, 0.02), &moving, 0.02, DVec3::X).expect("touching");
         assert!(across.two_way_share > 0.1, "{across:?}");
         assert!((across.separation - 1.0).abs() < 0.05, "{across:?}");
         // Lifted, it leaves the plate: stopped one way only.
-        let lifted = slide_trap(&s, 0, &moving, 0.02, DVec3::Z).expect("touching");
+        let lifted =
+            slide_trap(&touches(&s, 0, &moving, 0.02), &moving, 0.02, DVec3::Z).expect("touching");
         assert_eq!(lifted.two_way_share, 0.0, "{lifted:?}");
     }
 
@@ -119,7 +119,8 @@ mod tests {
             .into_iter()
             .filter(|p| p.x < 0.5)
             .collect();
-        let trap = slide_trap(&s, 0, &moving, 0.02, DVec3::X).expect("touching");
+        let trap =
+            slide_trap(&touches(&s, 0, &moving, 0.02), &moving, 0.02, DVec3::X).expect("touching");
         assert_eq!(trap.two_way_share, 0.0, "{trap:?}");
     }
 
@@ -130,7 +131,9 @@ mod tests {
         let plate = TriMesh::cuboid(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.1));
         let block = TriMesh::cuboid(DVec3::new(0.4, 0.4, 0.09), DVec3::new(0.6, 0.6, 0.3));
         let s = Scene::of_convex_parts(&[plate, block], 3000);
-        let trap = slide_trap(&s, 0, &s.points_of(&[1]), 0.02, DVec3::Z).expect("touching");
+        let moving = s.points_of(&[1]);
+        let trap =
+            slide_trap(&touches(&s, 0, &moving, 0.02), &moving, 0.02, DVec3::Z).expect("touching");
         assert!(trap.two_way_share > 0.0, "{trap:?}");
         assert!(trap.separation < 0.2, "{trap:?}");
     }

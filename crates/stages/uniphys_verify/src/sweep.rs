@@ -10,7 +10,7 @@ use crate::fit::{SPIN_RANGE_MIN_RAD, spin_residual};
 use crate::handle::{axis_across_panel, handle_on_hinge, is_broad_sheet};
 use crate::held::{
     contact_normal_tensor, gap_to_parent_m, hinge_to_parent_m, line_to_points_m, mean,
-    rest_contact_m, slide_against_contact, slide_touch_m, touching_samples,
+    rest_contact_m, slide_against_contact, slide_touch_m, touches, touching_samples,
 };
 use crate::in_plane::{InPlaneTurn, in_plane_turn};
 use crate::motion::{JointMotion, sweep_coordinates};
@@ -501,17 +501,12 @@ pub fn sweep(
     }
     if joint.kind == JointKind::Prismatic {
         let touch_m = slide_touch_m(params, &moving_points);
-        if let Some(tensor) = contact_normal_tensor(scene, parent, &moving_points, touch_m) {
+        let at_parent = touches(scene, parent, &moving_points, touch_m);
+        if let Some(tensor) = contact_normal_tensor(&at_parent) {
             (metrics.short_slide_press, metrics.short_slide_guidance) =
                 slide_against_contact(tensor, motion.axis_in_object);
         }
-        metrics.slide_trap = slide_trap(
-            scene,
-            parent,
-            &moving_points,
-            touch_m,
-            motion.axis_in_object,
-        );
+        metrics.slide_trap = slide_trap(&at_parent, &moving_points, touch_m, motion.axis_in_object);
         if matches!(short_slide, Some(Some(_))) {
             metrics.short_slide_side = slide_side(
                 scene,

@@ -164,7 +164,7 @@ impl SweepMetrics {
             ));
         }
         if let Some(side) = self.short_slide_wrong_way(params) {
-            reasons.push(if self.pulled_off_broad_face(params) {
+            reasons.push(if side.away > 0.0 && Self::on_broad_face(&side, params) {
                 format!(
                     "a short slide pulls its part off the broad face it stands on (its parent reaches {:.1} times the part's radius from its axis there, a part capping its parent's end at most {:.1}): a knob or a button is pressed in, toward its parent",
                     side.parent_reach_ratio, params.short_slide_cap_reach_max
