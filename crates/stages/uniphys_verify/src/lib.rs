@@ -17,13 +17,14 @@
 //!   rules it breaks and how badly (`verdict`: [`SweepMetrics::failures`],
 //!   [`SweepMetrics::severity`]);
 //! - one joint judged and, if it fails, corrected in tiers of growing change ([`verify_joint`],
-//!   [`correct_joint`]) from the articulation candidates of the contact geometry, the part's
-//!   edge lines, the cross-sections of its edges, the centres of its rounded ends and of the
-//!   region its parent holds on both faces ([`articulation_candidates`], [`edge_pivots`],
-//!   [`band_pivots`], [`rounded_end_pivots`], [`held_pivots`]), also used by grounders to
-//!   enumerate hypotheses, and the line a spinning part is round about; corrections compared by
-//!   how well they fit the part (`fit`); a round part's shape about a line and whether a hand
-//!   would press it or turn it ([`RoundAxis`]), which the grounder asks too;
+//!   [`correct_joint`]; the tiers' variants built in `variants`) from the articulation candidates
+//!   of the contact geometry, the part's edge lines, the cross-sections of its edges, the centres
+//!   of its rounded ends and of the region its parent holds on both faces
+//!   ([`articulation_candidates`], [`edge_pivots`], [`band_pivots`], [`rounded_end_pivots`],
+//!   [`held_pivots`]), also used by grounders to enumerate hypotheses, and the line a spinning part
+//!   is round about; corrections compared by how well they fit the part (`fit`); a round part's
+//!   shape about a line and whether a hand would press it or turn it ([`RoundAxis`]), which the
+//!   grounder asks too;
 //! - the whole articulation at once ([`verify_articulation`]).
 //!
 //! Distance thresholds are fractions of the object's diagonal or of the parts involved, so
@@ -55,6 +56,7 @@ mod slide_trap;
 mod slot;
 mod sweep;
 mod sweep_params;
+mod variants;
 mod verdict;
 
 pub use articulation::{ArticulationOutcome, JointVerdict, verify_articulation, verify_joint};
