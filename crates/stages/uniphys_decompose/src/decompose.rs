@@ -1,7 +1,8 @@
 //! The whole stage: perceive (views, segmentation, lifting, consensus, prior), candidate
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
 //! panels carrying a handle split back out of it, second split, small-part merge, the mesh's
-//! pieces made whole and small controls kept, hidden parts merged into the largest.
+//! pieces made whole and small controls kept, hidden parts merged into the largest, thin sheets
+//! stacked flat against each other joined.
 
 use std::time::Instant;
 
@@ -11,6 +12,7 @@ use crate::apriori::{AprioriOptions, merge_parts};
 use crate::candidates::{CandidateGenerator, CandidateRequest};
 use crate::handles::{HandleOptions, keep_handled_panels};
 use crate::hidden::{HiddenOptions, merge_hidden_parts};
+use crate::layers::{LayerOptions, merge_layers};
 use crate::output::{CandidateLoss, DecomposeSummary, Decomposition, StepLabels, StepTiming};
 use crate::perception::{PerceptionOptions, perceive};
 use crate::pieces::{PieceOptions, respect_pieces};
@@ -57,6 +59,8 @@ pub struct DecomposeOptions {
     pub pieces: PieceOptions,
     /// Parts hidden inside the closed object merged into the largest part.
     pub hidden: HiddenOptions,
+    /// Thin sheets stacked flat against each other joined into one panel.
+    pub layers: LayerOptions,
     /// Seed for anything random (default 0).
     pub seed: u64,
     /// Keep every step's face labels in [`Decomposition::steps`] (benchmarks; default false).
@@ -79,6 +83,7 @@ impl Default for DecomposeOptions {
             small_parts: SmallPartOptions::default(),
             pieces: PieceOptions::default(),
             hidden: HiddenOptions::default(),
+            layers: LayerOptions::default(),
             seed: 0,
             keep_step_labels: false,
         }
@@ -149,6 +154,38 @@ impl DecomposeOptions {
                 0.0,
                 1.0,
             ),
+            (
+                "layers.thin_ratio_max",
+                self.layers.thin_ratio_max,
+                0.0,
+                1.0,
+            ),
+            (
+                "layers.parallel_cos_min",
+                self.layers.parallel_cos_min,
+                0.0,
+                1.0,
+            ),
+            ("layers.gap_rel_max", self.layers.gap_rel_max, 0.0, 1.0),
+            (
+                "layers.stack_ratio_max",
+                self.layers.stack_ratio_max,
+                0.0,
+                1.0,
+            ),
+            ("layers.cover_min", self.layers.cover_min, 0.0, 1.0),
+            (
+                "layers.area_fraction_min",
+                self.layers.area_fraction_min,
+                0.0,
+                1.0,
+            ),
+            (
+                "layers.whole_fraction_max",
+                self.layers.whole_fraction_max,
+                0.0,
+                1.0,
+            ),
         ];
         for (name, value, low, high) in fractions {
             if !(value.is_finite() && value >= low && value <= high) {
@@ -156,6 +193,11 @@ impl DecomposeOptions {
                     "{name} = {value} is outside [{low}, {high}]"
                 )));
             }
+        }
+        if self.layers.grid_cells == 0 {
+            return Err(DecomposeError::InvalidOption(
+                "layers.grid_cells must be at least 1".into(),
+            ));
         }
         if self.whole_object_fraction <= 0.0 {
             return Err(DecomposeError::InvalidOption(
@@ -315,10 +357,18 @@ pub fn decompose(
     lap("pieces", &mut timings);
     keep("pieces", &whole);
 
-    let (face_part, part_count, hidden_parts_merged) =
+    let (unhidden, unhidden_parts, hidden_parts_merged) =
         merge_hidden_parts(mesh, &whole, &options.hidden);
     lap("hidden", &mut timings);
-    keep("hidden", &face_part);
+    keep("hidden", &unhidden);
+
+    let (face_part, part_count, layers_joined) = if unhidden_parts > 1 {
+        merge_layers(mesh, &unhidden, &options.layers)
+    } else {
+        (unhidden, unhidden_parts, 0)
+    };
+    lap("layers", &mut timings);
+    keep("layers", &face_part);
     let one_part_reason = (part_count == 1).then(|| {
         if whole_parts > 1 {
             format!(
@@ -364,6 +414,7 @@ pub fn decompose(
         controls_kept: pieces.controls_kept,
         parts_split_in_two: pieces.parts_split_in_two,
         hidden_parts_merged,
+        layers_joined,
         one_part_reason,
         final_parts: part_count,
         merge_strategy: merged.strategy,

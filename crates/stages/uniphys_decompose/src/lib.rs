@@ -21,7 +21,8 @@
 //!   regions behind one crease);
 //!   [`round`]: whether a part maps onto itself when turned (a wheel or a dial is kept, since
 //!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed
-//!   object (unreachable, so not operable) merged into the largest part;
+//!   object (unreachable, so not operable) merged into the largest part; [`layers`]: thin
+//!   sheets stacked flat against each other (a door's skin and liner) joined into one panel;
 //! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
@@ -34,6 +35,7 @@ pub mod decompose;
 mod error;
 pub mod handles;
 pub mod hidden;
+pub mod layers;
 pub mod lift;
 pub mod output;
 pub mod perception;
@@ -57,6 +59,7 @@ pub use candidates::{
 pub use decompose::{DecomposeOptions, decompose, decompose_asset};
 pub use error::{DecomposeError, DecomposeResult};
 pub use hidden::{HiddenOptions, merge_hidden_parts};
+pub use layers::{LayerOptions, merge_layers};
 pub use lift::FaceSet;
 pub use output::{DecomposeSummary, Decomposition, StepLabels};
 pub use perception::{Perception, PerceptionOptions, perceive};

@@ -25,7 +25,7 @@ pub struct CandidateLoss {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepTiming {
     /// Step name: "perceive", "candidates", "select", "refine", "merge", "handles",
-    /// "refine_again", "small_parts", "pieces", "hidden".
+    /// "refine_again", "small_parts", "pieces", "hidden", "layers".
     pub step: String,
     /// Seconds.
     pub secs: f64,
@@ -86,6 +86,9 @@ pub struct DecomposeSummary {
     /// into the largest part.
     #[serde(default)]
     pub hidden_parts_merged: usize,
+    /// Thin parts stacked flat against another (a door's skin and liner), joined to it.
+    #[serde(default)]
+    pub layers_joined: usize,
     /// When the stage found a single part, why (which step joined everything, or that the mesh
     /// is one piece).
     #[serde(skip_serializing_if = "Option::is_none")]
