@@ -4,15 +4,12 @@
 //! than a set gap do.
 
 use glam::DVec3;
-use parry3d::math::Vector;
-use parry3d::query::{Ray, RayCast};
 
-use crate::TriMesh;
+use crate::{RayMesh, TriMesh};
 
 /// Rays against one mesh, for asking which of its points are exposed.
 pub struct ExposureProbe {
-    bvh: parry3d::shape::TriMesh,
-    origin: DVec3,
+    rays: RayMesh,
     reach_m: f64,
     skip_m: f64,
     directions: Vec<DVec3>,
@@ -21,7 +18,7 @@ pub struct ExposureProbe {
 impl std::fmt::Debug for ExposureProbe {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ExposureProbe")
-            .field("origin", &self.origin)
+            .field("rays", &self.rays)
             .field("skip_m", &self.skip_m)
             .field("directions", &self.directions.len())
             .finish_non_exhaustive()
@@ -38,12 +35,8 @@ impl ExposureProbe {
         if !(diagonal.is_finite() && diagonal > 0.0) || mesh.triangles.is_empty() {
             return None;
         }
-        let origin = mesh.bounds().center();
-        let vertices: Vec<Vector> = mesh.positions.iter().map(|p| to_f32(*p - origin)).collect();
-        let bvh = parry3d::shape::TriMesh::new(vertices, mesh.triangles.clone()).ok()?;
         Some(Self {
-            bvh,
-            origin,
+            rays: RayMesh::new(mesh)?,
             reach_m: 2.0 * diagonal,
             skip_m: skip_rel.max(0.0) * diagonal,
             directions: sphere_directions(directions.max(1)),
@@ -55,10 +48,8 @@ impl ExposureProbe {
     #[must_use]
     pub fn is_exposed(&self, point: DVec3) -> bool {
         self.directions.iter().any(|&dir| {
-            let from = point - self.origin + dir * self.skip_m;
-            let ray = Ray::new(to_f32(from), to_f32(dir));
-            self.bvh
-                .cast_local_ray(&ray, self.reach_m as f32, false)
+            self.rays
+                .first_hit_m(point + dir * self.skip_m, dir, self.reach_m)
                 .is_none()
         })
     }
@@ -77,10 +68,6 @@ pub fn sphere_directions(n: usize) -> Vec<DVec3> {
             DVec3::new(r * phi.cos(), r * phi.sin(), z)
         })
         .collect()
-}
-
-fn to_f32(p: DVec3) -> Vector {
-    Vector::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! Geometry kernel of the UniPhys service: triangle meshes with their materials, bounds, surface
 //! sampling, voxelised volume, mass properties of solids and of thin walls, contact regions and
-//! distances between parts, plane fitting, convex outlines in a plane, k-means, optimal
+//! distances between parts, ray casts against a mesh, plane fitting, convex outlines in a plane, k-means, optimal
 //! one-to-one assignment, convex decomposition, a parallel map over independent work, and the
 //! sRGB and texel helpers the renderers share. Synchronous, CPU only, deterministic for
 //! a given seed.
@@ -30,6 +30,7 @@ mod orientation;
 mod outline;
 mod parallel;
 mod plane;
+mod ray_mesh;
 mod rng;
 mod sampling;
 mod shell;
@@ -64,6 +65,7 @@ pub use orientation::{box_axes, principal_axes, projection_range};
 pub use outline::{convex_outline, outline_area};
 pub use parallel::parallel_map;
 pub use plane::{Plane, fit_plane, fit_plane_ransac};
+pub use ray_mesh::RayMesh;
 pub use rng::SplitMix64;
 pub use sampling::{SurfaceSamples, sample_points, sample_surface};
 pub use shell::WallSamples;
