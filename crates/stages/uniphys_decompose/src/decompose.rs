@@ -2,7 +2,7 @@
 //! decompositions for K around the prior, Hungarian selection, connectivity split, Apriori merge,
 //! panels carrying a handle split back out of it, second split, small-part merge, the mesh's
 //! pieces made whole and small controls kept, hidden parts merged into the largest, thin sheets
-//! stacked flat against each other joined.
+//! stacked flat against each other joined, boards topping the object joined to the largest part.
 
 use std::time::Instant;
 
@@ -24,6 +24,7 @@ use crate::select::{
     without_whole_object_masks,
 };
 use crate::small_parts::{SmallPartOptions, merge_small_parts};
+use crate::tops::{TopOptions, merge_tops};
 use crate::views::{face_colours, face_material_ids};
 use crate::{DecomposeError, DecomposeResult};
 
@@ -61,6 +62,8 @@ pub struct DecomposeOptions {
     pub hidden: HiddenOptions,
     /// Thin sheets stacked flat against each other joined into one panel.
     pub layers: LayerOptions,
+    /// Boards topping the object with no cavity under them joined to the largest part.
+    pub tops: TopOptions,
     /// Seed for anything random (default 0).
     pub seed: u64,
     /// Keep every step's face labels in [`Decomposition::steps`] (benchmarks; default false).
@@ -84,6 +87,7 @@ impl Default for DecomposeOptions {
             pieces: PieceOptions::default(),
             hidden: HiddenOptions::default(),
             layers: LayerOptions::default(),
+            tops: TopOptions::default(),
             seed: 0,
             keep_step_labels: false,
         }
@@ -183,6 +187,31 @@ impl DecomposeOptions {
             (
                 "layers.whole_fraction_max",
                 self.layers.whole_fraction_max,
+                0.0,
+                1.0,
+            ),
+            ("tops.thin_ratio_max", self.tops.thin_ratio_max, 0.0, 1.0),
+            ("tops.level_cos_min", self.tops.level_cos_min, 0.0, 1.0),
+            ("tops.broad_ratio_min", self.tops.broad_ratio_min, 0.0, 1.0),
+            ("tops.fill_min", self.tops.fill_min, 0.0, f64::MAX),
+            ("tops.plan_cover_min", self.tops.plan_cover_min, 0.0, 1.0),
+            ("tops.raised_min", self.tops.raised_min, 0.0, 1.0),
+            ("tops.sky_share_min", self.tops.sky_share_min, 0.0, 1.0),
+            (
+                "tops.cavity_depth_min",
+                self.tops.cavity_depth_min,
+                0.0,
+                1.0,
+            ),
+            (
+                "tops.cavity_share_max",
+                self.tops.cavity_share_max,
+                0.0,
+                1.0,
+            ),
+            (
+                "tops.area_fraction_min",
+                self.tops.area_fraction_min,
                 0.0,
                 1.0,
             ),
@@ -357,18 +386,17 @@ pub fn decompose(
     lap("pieces", &mut timings);
     keep("pieces", &whole);
 
-    let (unhidden, unhidden_parts, hidden_parts_merged) =
-        merge_hidden_parts(mesh, &whole, &options.hidden);
+    let (unhidden, _, hidden_parts_merged) = merge_hidden_parts(mesh, &whole, &options.hidden);
     lap("hidden", &mut timings);
     keep("hidden", &unhidden);
 
-    let (face_part, part_count, layers_joined) = if unhidden_parts > 1 {
-        merge_layers(mesh, &unhidden, &options.layers)
-    } else {
-        (unhidden, unhidden_parts, 0)
-    };
+    let (layered, _, layers_joined) = merge_layers(mesh, &unhidden, &options.layers);
     lap("layers", &mut timings);
-    keep("layers", &face_part);
+    keep("layers", &layered);
+
+    let (face_part, part_count, tops_joined) = merge_tops(mesh, &layered, &options.tops);
+    lap("tops", &mut timings);
+    keep("tops", &face_part);
     let one_part_reason = (part_count == 1).then(|| {
         if whole_parts > 1 {
             format!(
@@ -415,6 +443,7 @@ pub fn decompose(
         parts_split_in_two: pieces.parts_split_in_two,
         hidden_parts_merged,
         layers_joined,
+        tops_joined,
         one_part_reason,
         final_parts: part_count,
         merge_strategy: merged.strategy,

@@ -23,6 +23,8 @@
 //!   it can spin against what it is attached to); [`hidden`]: parts hidden inside the closed
 //!   object (unreachable, so not operable) merged into the largest part; [`layers`]: thin
 //!   sheets stacked flat against each other (a door's skin and liner) joined into one panel;
+//!   [`tops`]: a board topping the object with no cavity under it (a table's top, a cooktop)
+//!   joined to the largest part;
 //! - [`mod@decompose`]: the whole stage, and [`output`]: per-part meshes and the face-to-part map;
 //!   [`score`]: part-count error and area-weighted IoU against known parts (tests, benchmark);
 //! - [`policy`]: which inputs are decomposed ([`DecomposeMode`]); [`split`]: a stored
@@ -51,6 +53,7 @@ pub mod segment;
 pub mod select;
 pub mod small_parts;
 pub mod split;
+pub mod tops;
 pub mod views;
 
 pub use candidates::{
@@ -70,4 +73,5 @@ pub use providers::{generator_for, segmenter_for};
 pub use score::{PartMatching, PartScore, match_parts, score_parts};
 pub use segment::{BuiltinSegmenter, LabelMap, Segmenter, ViewImage};
 pub use split::split_asset;
+pub use tops::{TopOptions, merge_tops};
 pub use views::{ViewOptions, ViewSet, face_colours, render_views};

@@ -25,7 +25,7 @@ pub struct CandidateLoss {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StepTiming {
     /// Step name: "perceive", "candidates", "select", "refine", "merge", "handles",
-    /// "refine_again", "small_parts", "pieces", "hidden", "layers".
+    /// "refine_again", "small_parts", "pieces", "hidden", "layers", "tops".
     pub step: String,
     /// Seconds.
     pub secs: f64,
@@ -89,6 +89,10 @@ pub struct DecomposeSummary {
     /// Thin parts stacked flat against another (a door's skin and liner), joined to it.
     #[serde(default)]
     pub layers_joined: usize,
+    /// Boards topping the object with no cavity under them (a table's top, a cooktop), joined to
+    /// the largest part.
+    #[serde(default)]
+    pub tops_joined: usize,
     /// When the stage found a single part, why (which step joined everything, or that the mesh
     /// is one piece).
     #[serde(skip_serializing_if = "Option::is_none")]
