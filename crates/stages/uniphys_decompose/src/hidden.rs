@@ -10,7 +10,7 @@
 
 use uniphys_geometry::{ExposureProbe, TriMesh, sample_points};
 
-use crate::candidates::relabel_by_first_face;
+use crate::part_faces::PartFaces;
 
 /// Tuning of [`merge_hidden_parts`].
 #[derive(Debug, Clone, PartialEq)]
@@ -49,39 +49,22 @@ pub fn merge_hidden_parts(
     face_part: &[u32],
     options: &HiddenOptions,
 ) -> (Vec<u32>, usize, usize) {
-    let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
-    let unchanged = || (face_part.to_vec(), parts, 0);
-    if parts < 2 {
-        return unchanged();
-    }
-    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); parts];
-    let mut area_m2 = vec![0.0f64; parts];
-    for (f, &p) in face_part.iter().enumerate() {
-        faces_of[p as usize].push(f);
-        area_m2[p as usize] += mesh.face_area(f);
-    }
-    let total_m2: f64 = area_m2.iter().sum();
-    let Some(largest) = (0..parts).max_by(|&a, &b| area_m2[a].total_cmp(&area_m2[b])) else {
+    let parts = PartFaces::of(mesh, face_part);
+    let unchanged = || (face_part.to_vec(), parts.count(), 0);
+    let Some(largest) = parts.largest().filter(|_| parts.count() >= 2) else {
         return unchanged();
     };
     let Some(probe) = ExposureProbe::new(mesh, options.directions, options.skip_rel) else {
         return unchanged();
     };
-    let hidden: Vec<usize> = (0..parts)
-        .filter(|&p| p != largest && area_m2[p] >= options.area_fraction_min * total_m2)
-        .filter(|&p| is_hidden(mesh, &faces_of[p], &probe, p as u64, options))
+    let hidden: Vec<usize> = (0..parts.count())
+        .filter(|&p| p != largest && parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
+        .filter(|&p| is_hidden(mesh, &parts.faces_of[p], &probe, p as u64, options))
         .collect();
     if hidden.is_empty() {
         return unchanged();
     }
-    let target = u32::try_from(largest).unwrap_or(u32::MAX);
-    let mut labels = face_part.to_vec();
-    for &p in &hidden {
-        for &f in &faces_of[p] {
-            labels[f] = target;
-        }
-    }
-    let (labels, count) = relabel_by_first_face(&labels);
+    let (labels, count) = parts.joined_into(face_part, &hidden, largest);
     (labels, count, hidden.len())
 }
 

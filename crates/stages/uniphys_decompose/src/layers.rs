@@ -17,6 +17,7 @@
 use uniphys_geometry::{Aabb, DVec3, TriMesh, principal_axes, projection_range, sample_points};
 
 use crate::candidates::{UnionFind, relabel_by_first_face};
+use crate::part_faces::PartFaces;
 
 /// Tuning of [`merge_layers`]. Lengths are shares of the bounds diagonal or of a sheet's length.
 #[derive(Debug, Clone, PartialEq)]
@@ -185,22 +186,15 @@ pub fn merge_layers(
     face_part: &[u32],
     options: &LayerOptions,
 ) -> (Vec<u32>, usize, usize) {
-    let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
-    let unchanged = || (face_part.to_vec(), parts, 0);
-    if parts < 2 {
+    let parts = PartFaces::of(mesh, face_part);
+    let unchanged = || (face_part.to_vec(), parts.count(), 0);
+    if parts.count() < 2 {
         return unchanged();
     }
-    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); parts];
-    let mut area_m2 = vec![0.0f64; parts];
-    for (f, &p) in face_part.iter().enumerate() {
-        faces_of[p as usize].push(f);
-        area_m2[p as usize] += mesh.face_area(f);
-    }
-    let total_m2: f64 = area_m2.iter().sum();
     let diagonal_m = Aabb::from_points(&mesh.positions).diagonal();
-    let mut sheets: Vec<Sheet> = (0..parts)
-        .filter(|&p| area_m2[p] >= options.area_fraction_min * total_m2)
-        .filter_map(|p| Sheet::of(mesh, p, &faces_of[p], area_m2[p], options))
+    let mut sheets: Vec<Sheet> = (0..parts.count())
+        .filter(|&p| parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
+        .filter_map(|p| Sheet::of(mesh, p, &parts.faces_of[p], parts.area_m2[p], options))
         .collect();
     // The larger sheet of a pair gives the frame.
     sheets.sort_by(|a, b| b.area_m2.total_cmp(&a.area_m2));
@@ -230,8 +224,8 @@ pub fn merge_layers(
         }
     }
     let sandwiched = |s: usize| sides[s][0] && sides[s][1];
-    let mut groups = UnionFind::new(parts);
-    let mut group_m2 = area_m2.clone();
+    let mut groups = UnionFind::new(parts.count());
+    let mut group_m2 = parts.area_m2.clone();
     let mut joined = 0;
     for (i, j) in stacked {
         if sandwiched(i) || sandwiched(j) {
@@ -245,7 +239,7 @@ pub fn merge_layers(
             continue;
         }
         let together_m2 = group_m2[ra as usize] + group_m2[rb as usize];
-        if together_m2 >= options.whole_fraction_max * total_m2 {
+        if together_m2 >= options.whole_fraction_max * parts.total_m2 {
             continue;
         }
         groups.union(ra, rb);

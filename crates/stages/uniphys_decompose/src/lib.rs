@@ -40,6 +40,7 @@ pub mod hidden;
 pub mod layers;
 pub mod lift;
 pub mod output;
+mod part_faces;
 pub mod perception;
 pub mod pieces;
 pub mod pockets;

@@ -19,7 +19,7 @@ use uniphys_geometry::{
     Aabb, DVec3, RayMesh, TriMesh, principal_axes, projection_range, sample_points,
 };
 
-use crate::candidates::relabel_by_first_face;
+use crate::part_faces::PartFaces;
 
 /// Tuning of [`merge_tops`]. Shares are of the object's height, plan or diagonal as named.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,25 +86,18 @@ pub fn merge_tops(
     face_part: &[u32],
     options: &TopOptions,
 ) -> (Vec<u32>, usize, usize) {
-    let parts = face_part.iter().max().map_or(0, |&m| m as usize + 1);
-    let unchanged = || (face_part.to_vec(), parts, 0);
-    if parts < 3 {
-        return unchanged();
-    }
-    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); parts];
-    let mut area_m2 = vec![0.0f64; parts];
-    for (f, &p) in face_part.iter().enumerate() {
-        faces_of[p as usize].push(f);
-        area_m2[p as usize] += mesh.face_area(f);
-    }
-    let total_m2: f64 = area_m2.iter().sum();
-    let Some(largest) = (0..parts).max_by(|&a, &b| area_m2[a].total_cmp(&area_m2[b])) else {
+    let parts = PartFaces::of(mesh, face_part);
+    let unchanged = || (face_part.to_vec(), parts.count(), 0);
+    let Some(largest) = parts.largest().filter(|_| parts.count() >= 3) else {
         return unchanged();
     };
     let object = Object::of(mesh);
-    let boards: Vec<(usize, Board)> = (0..parts)
-        .filter(|&p| p != largest && area_m2[p] >= options.area_fraction_min * total_m2)
-        .filter_map(|p| Board::of(mesh, &faces_of[p], area_m2[p], &object, options).map(|b| (p, b)))
+    let boards: Vec<(usize, Board)> = (0..parts.count())
+        .filter(|&p| p != largest && parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
+        .filter_map(|p| {
+            Board::of(mesh, &parts.faces_of[p], parts.area_m2[p], &object, options)
+                .map(|board| (p, board))
+        })
         .collect();
     if boards.is_empty() {
         return unchanged();
@@ -112,28 +105,21 @@ pub fn merge_tops(
     let tops: Vec<usize> = boards
         .into_iter()
         .filter(|(p, board)| {
-            let rest: Vec<usize> = (0..mesh.triangle_count())
+            let others: Vec<usize> = (0..mesh.triangle_count())
                 .filter(|&f| face_part[f] as usize != *p)
                 .collect();
-            RayMesh::new(&mesh.submesh(&rest)).is_some_and(|others| {
+            RayMesh::new(&mesh.submesh(&others)).is_some_and(|others| {
                 board.sees_the_sky(&others, &object, options)
                     && board.cavity_share(&others, &object, options) < options.cavity_share_max
             })
         })
         .map(|(p, _)| p)
-        .take(parts - 2)
+        .take(parts.count() - 2)
         .collect();
     if tops.is_empty() {
         return unchanged();
     }
-    let target = u32::try_from(largest).unwrap_or(u32::MAX);
-    let mut labels = face_part.to_vec();
-    for &p in &tops {
-        for &f in &faces_of[p] {
-            labels[f] = target;
-        }
-    }
-    let (labels, count) = relabel_by_first_face(&labels);
+    let (labels, count) = parts.joined_into(face_part, &tops, largest);
     (labels, count, tops.len())
 }
 
