@@ -14,7 +14,7 @@
 //! each other). A stack that would hold nearly the whole object is left apart: the object is
 //! then the stack itself (a closed laptop's screen on its base), not a panel of it.
 
-use uniphys_geometry::{Aabb, DVec3, TriMesh, principal_axes, projection_range, sample_points};
+use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range, sample_points};
 
 use crate::candidates::{UnionFind, relabel_by_first_face};
 use crate::part_faces::PartFaces;
@@ -61,10 +61,13 @@ impl Default for LayerOptions {
     }
 }
 
-/// A thin part: its principal frame (the normal last), its faces' corners and samples.
+/// A thin part: its principal frame (the normal last), its length, its faces' corners and
+/// samples.
 struct Sheet {
     part: usize,
     area_m2: f64,
+    /// Its extent along its first principal axis, metres.
+    length_m: f64,
     axes: [DVec3; 3],
     vertices: Vec<DVec3>,
     samples: Vec<DVec3>,
@@ -90,6 +93,7 @@ impl Sheet {
         (length > 0.0 && thickness <= options.thin_ratio_max * length).then_some(Self {
             part,
             area_m2,
+            length_m: length,
             axes,
             vertices,
             samples,
@@ -191,7 +195,7 @@ pub fn merge_layers(
     if parts.count() < 2 {
         return unchanged();
     }
-    let diagonal_m = Aabb::from_points(&mesh.positions).diagonal();
+    let diagonal_m = mesh.bounds().diagonal();
     let mut sheets: Vec<Sheet> = (0..parts.count())
         .filter(|&p| parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
         .filter_map(|p| Sheet::of(mesh, p, &parts.faces_of[p], parts.area_m2[p], options))
@@ -206,7 +210,7 @@ pub fn merge_layers(
             if a.axes[2].dot(b.axes[2]).abs() < options.parallel_cos_min {
                 continue;
             }
-            let length_m = extent(&a.vertices, a.axes[0]).max(extent(&b.vertices, b.axes[0]));
+            let length_m = a.length_m.max(b.length_m);
             let stack = Stack::of(a, b, options.grid_cells);
             if stack.gap_m > options.gap_rel_max * diagonal_m
                 || stack.thickness_m > options.stack_ratio_max * length_m
