@@ -165,6 +165,12 @@ impl DecomposeOptions {
                 1.0,
             ),
             (
+                "layers.broad_ratio_min",
+                self.layers.broad_ratio_min,
+                0.0,
+                1.0,
+            ),
+            (
                 "layers.parallel_cos_min",
                 self.layers.parallel_cos_min,
                 0.0,

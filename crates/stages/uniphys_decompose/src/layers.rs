@@ -7,12 +7,14 @@
 //! the panel is found only in part (measured on the shared PartNet-Mobility objects,
 //! `decompose-bench --partnet`: refrigerator and microwave doors, laptop screens).
 //!
-//! Covering is judged on the sheets' material, not their outlines: a door closed against a face
-//! frame covers the frame's opening, which the frame does not cover back. A sheet held between
-//! two others, one on each face, is not joined to them: a folding knife's blade between its
-//! scales turns in its own plane (the scales, stacked across the blade's thickness, still join
-//! each other). A stack that would hold nearly the whole object is left apart: the object is
-//! then the stack itself (a closed laptop's screen on its base), not a panel of it.
+//! Only broad sheets are layers: stacked bars may be the links of a linkage that turn about a
+//! pin through both (scissors, pliers, the two bars of a walking robot's leg). Covering is
+//! judged on the sheets' material, not their outlines: a door closed against a face frame covers
+//! the frame's opening, which the frame does not cover back. A sheet held between two others,
+//! one on each face, is not joined to them: it may slide or turn in its own plane between them
+//! (the two outer ones, stacked across its thickness, still join each other). A stack that would
+//! hold nearly the whole object is left apart: the object is then the stack itself (a closed
+//! laptop's screen on its base), not a panel of it.
 
 use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range, sample_points};
 
@@ -22,8 +24,13 @@ use crate::part_faces::PartFaces;
 /// Tuning of [`merge_layers`]. Lengths are shares of the bounds diagonal or of a sheet's length.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LayerOptions {
-    /// A part is a sheet when its thickness is at most this share of its length. Default 0.15.
+    /// A part is a sheet when its thickness is at most this share of its length ...
+    /// Default 0.15.
     pub thin_ratio_max: f64,
+    /// ... and a broad one when its width is at least this share of its length. Stacked bars
+    /// may be the links of a linkage that turn about a pin through both (scissors, pliers, a
+    /// walking robot's two leg bars), so only broad sheets are layers. Default 0.25.
+    pub broad_ratio_min: f64,
     /// Two sheets lie flat against each other when their normals are this parallel (cosine).
     /// Default 0.95.
     pub parallel_cos_min: f64,
@@ -49,6 +56,7 @@ impl Default for LayerOptions {
     fn default() -> Self {
         Self {
             thin_ratio_max: 0.15,
+            broad_ratio_min: 0.25,
             parallel_cos_min: 0.95,
             gap_rel_max: 0.02,
             stack_ratio_max: 0.15,
@@ -89,8 +97,12 @@ impl Sheet {
         let axes = principal_axes(&samples);
         let vertices: Vec<DVec3> = faces.iter().flat_map(|&f| mesh.corners(f)).collect();
         let length = extent(&vertices, axes[0]);
+        let width = extent(&vertices, axes[1]);
         let thickness = extent(&vertices, axes[2]);
-        (length > 0.0 && thickness <= options.thin_ratio_max * length).then_some(Self {
+        let broad_sheet = length > 0.0
+            && thickness <= options.thin_ratio_max * length
+            && width >= options.broad_ratio_min * length;
+        broad_sheet.then_some(Self {
             part,
             area_m2,
             length_m: length,
@@ -296,7 +308,7 @@ mod tests {
     }
 
     #[test]
-    fn a_blade_between_two_scales_stays_and_the_scales_join() {
+    fn a_sheet_held_between_two_others_stays_and_the_outer_two_join() {
         let (mesh, labels) = parts(&[
             (v(0.0, 0.0, -0.035), v(1.0, 0.3, -0.005)),
             (v(0.0, 0.0, -0.005), v(1.0, 0.3, 0.005)),
@@ -306,6 +318,24 @@ mod tests {
         assert_eq!((count, merged), (2, 1));
         assert_eq!(joined[0], joined[24]);
         assert_ne!(joined[0], joined[12]);
+    }
+
+    #[test]
+    fn stacked_bars_stay_apart_and_stacked_boards_as_long_join() {
+        // Two bars of a linkage lying on each other (a tenth as wide as long), then the same
+        // two a third as wide as long, with a body beside them.
+        let body = (v(0.0, 0.5, 0.0), v(1.0, 1.1, 0.6));
+        let stack = |width: f64| {
+            parts(&[
+                (v(0.0, 0.0, 0.0), v(1.0, width, 0.02)),
+                (v(0.0, 0.0, 0.02), v(1.0, width, 0.04)),
+                body,
+            ])
+        };
+        let (mesh, labels) = stack(0.1);
+        assert_eq!(merge_layers(&mesh, &labels, &LayerOptions::default()).1, 3);
+        let (mesh, labels) = stack(0.33);
+        assert_eq!(merge_layers(&mesh, &labels, &LayerOptions::default()).1, 2);
     }
 
     #[test]

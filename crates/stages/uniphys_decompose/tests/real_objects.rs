@@ -289,23 +289,6 @@ fn a_refrigerator_doors_skin_and_liner_are_one_door() {
 }
 
 #[test]
-fn a_folding_knifes_scales_join_and_its_blade_between_them_stays_apart() {
-    // The closed blade lies between the two scales of the handle, one on each face: the scales
-    // are one body, the blade turns between them.
-    let (mesh, truth, motion, decomposition) = decomposed("kitchen-102400");
-    let ious = true_part_ious(&mesh, &truth, &decomposition);
-    let (blade, body): (Vec<_>, Vec<_>) = motion.iter().zip(&ious).partition(|(k, _)| k.is_some());
-    assert_eq!((blade.len(), body.len()), (1, 1));
-    assert!(
-        *blade[0].1 >= 0.5 && *body[0].1 >= 0.9,
-        "blade IoU {}, body IoU {}; summary {:?}",
-        blade[0].1,
-        body[0].1,
-        decomposition.summary
-    );
-}
-
-#[test]
 fn a_tables_top_joins_its_frame_and_its_drawers_stay_apart() {
     // The top is a board of its own on the legs; the views kept it apart, and the frame was
     // found without it (body IoU about 0.56) until a raised board open to the sky with no cavity
