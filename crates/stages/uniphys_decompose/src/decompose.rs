@@ -396,11 +396,12 @@ pub fn decompose(
     lap("hidden", &mut timings);
     keep("hidden", &unhidden);
 
-    let (layered, _, layers_joined) = merge_layers(mesh, &unhidden, &options.layers);
+    let (layered, _, layers_joined) = merge_layers(mesh, &unhidden, &materials, &options.layers);
     lap("layers", &mut timings);
     keep("layers", &layered);
 
-    let (face_part, part_count, tops_joined) = merge_tops(mesh, &layered, &options.tops);
+    let (face_part, part_count, tops_joined) =
+        merge_tops(mesh, &layered, &materials, &options.tops);
     lap("tops", &mut timings);
     keep("tops", &face_part);
     let one_part_reason = (part_count == 1).then(|| {

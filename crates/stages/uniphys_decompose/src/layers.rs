@@ -1,6 +1,8 @@
-//! Layers of one panel: two thin sheets lying flat against each other, each covering most of
-//! the other, are one panel (a door's outer skin and its inner liner, a screen's back shell and
-//! its bezel, a board and its veneer), so they join.
+//! Layers of one panel: two thin sheets of one material lying flat against each other, each
+//! covering most of the other, are one panel (a door's outer skin and its inner liner, a
+//! screen's back shell and its bezel, a board and its veneer), so they join. Sheets of two
+//! materials stay apart, as every part of the stage is of one material (a laptop's glass screen
+//! on its aluminium lid).
 //!
 //! Why: real meshes build a door or a lid from a stack of sheets, and the views cut them apart
 //! where one sheet's edge stands out of the other. Each layer then competes for the panel, and
@@ -194,12 +196,14 @@ fn covering(a: &Sheet, b: &Sheet, cells: usize) -> f64 {
     both / larger as f64
 }
 
-/// Joins thin parts stacked flat against each other into one part. Returns the new labels
-/// (numbered by smallest face), their count and how many parts were joined to another.
+/// Joins thin parts of one material (`face_material`: one id per face, or empty when unknown)
+/// stacked flat against each other into one part. Returns the new labels (numbered by smallest
+/// face), their count and how many parts were joined to another.
 #[must_use]
 pub fn merge_layers(
     mesh: &TriMesh,
     face_part: &[u32],
+    face_material: &[u32],
     options: &LayerOptions,
 ) -> (Vec<u32>, usize, usize) {
     let parts = PartFaces::of(mesh, face_part);
@@ -208,6 +212,7 @@ pub fn merge_layers(
         return unchanged();
     }
     let diagonal_m = mesh.bounds().diagonal();
+    let material = parts.main_materials(mesh, face_material);
     let mut sheets: Vec<Sheet> = (0..parts.count())
         .filter(|&p| parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
         .filter_map(|p| Sheet::of(mesh, p, &parts.faces_of[p], parts.area_m2[p], options))
@@ -219,7 +224,9 @@ pub fn merge_layers(
     let mut sides: Vec<[bool; 2]> = vec![[false; 2]; sheets.len()];
     for (i, a) in sheets.iter().enumerate() {
         for (j, b) in sheets.iter().enumerate().skip(i + 1) {
-            if a.axes[2].dot(b.axes[2]).abs() < options.parallel_cos_min {
+            if material[a.part] != material[b.part]
+                || a.axes[2].dot(b.axes[2]).abs() < options.parallel_cos_min
+            {
                 continue;
             }
             let length_m = a.length_m.max(b.length_m);
@@ -301,10 +308,14 @@ mod tests {
             (v(0.05, 0.02, 0.05), v(0.95, 0.04, 0.95)),
             (v(0.0, 0.04, 0.0), v(1.0, 0.64, 1.0)),
         ]);
-        let (joined, count, merged) = merge_layers(&mesh, &labels, &LayerOptions::default());
+        let (joined, count, merged) = merge_layers(&mesh, &labels, &[], &LayerOptions::default());
         assert_eq!((count, merged), (2, 1));
         assert_eq!(joined[0], joined[12]);
         assert_ne!(joined[0], joined[24]);
+        // A glass liner on a steel skin stays apart: every part is of one material.
+        let materials: Vec<u32> = labels.iter().map(|&l| u32::from(l == 1)).collect();
+        let (_, count, merged) = merge_layers(&mesh, &labels, &materials, &LayerOptions::default());
+        assert_eq!((count, merged), (3, 0));
     }
 
     #[test]
@@ -314,7 +325,7 @@ mod tests {
             (v(0.0, 0.0, -0.005), v(1.0, 0.3, 0.005)),
             (v(0.0, 0.0, 0.005), v(1.0, 0.3, 0.035)),
         ]);
-        let (joined, count, merged) = merge_layers(&mesh, &labels, &LayerOptions::default());
+        let (joined, count, merged) = merge_layers(&mesh, &labels, &[], &LayerOptions::default());
         assert_eq!((count, merged), (2, 1));
         assert_eq!(joined[0], joined[24]);
         assert_ne!(joined[0], joined[12]);
@@ -333,9 +344,15 @@ mod tests {
             ])
         };
         let (mesh, labels) = stack(0.1);
-        assert_eq!(merge_layers(&mesh, &labels, &LayerOptions::default()).1, 3);
+        assert_eq!(
+            merge_layers(&mesh, &labels, &[], &LayerOptions::default()).1,
+            3
+        );
         let (mesh, labels) = stack(0.33);
-        assert_eq!(merge_layers(&mesh, &labels, &LayerOptions::default()).1, 2);
+        assert_eq!(
+            merge_layers(&mesh, &labels, &[], &LayerOptions::default()).1,
+            2
+        );
     }
 
     #[test]
@@ -352,7 +369,7 @@ mod tests {
         for label in &mut labels {
             *label = label.saturating_sub(3);
         }
-        let (joined, count, merged) = merge_layers(&mesh, &labels, &LayerOptions::default());
+        let (joined, count, merged) = merge_layers(&mesh, &labels, &[], &LayerOptions::default());
         assert_eq!((count, merged), (3, 0));
         assert_eq!(joined, labels);
         // Without its opening the frame is a full board under the door, and they join.
@@ -362,7 +379,10 @@ mod tests {
             &TriMesh::cuboid(v(0.0, 0.04, 0.0), v(1.0, 0.64, 1.0)),
         ]);
         labels = (0..36).map(|f| f / 12).collect();
-        assert_eq!(merge_layers(&mesh, &labels, &LayerOptions::default()).1, 2);
+        assert_eq!(
+            merge_layers(&mesh, &labels, &[], &LayerOptions::default()).1,
+            2
+        );
     }
 
     #[test]
@@ -372,7 +392,7 @@ mod tests {
             (v(0.0, 0.0, 0.0), v(1.0, 0.7, 0.03)),
             (v(0.0, 0.0, 0.03), v(1.0, 0.7, 0.04)),
         ]);
-        let (joined, count, merged) = merge_layers(&mesh, &labels, &LayerOptions::default());
+        let (joined, count, merged) = merge_layers(&mesh, &labels, &[], &LayerOptions::default());
         assert_eq!((count, merged), (2, 0));
         assert_eq!(joined, labels);
     }

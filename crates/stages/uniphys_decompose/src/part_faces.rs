@@ -1,5 +1,6 @@
-//! The faces and areas of each part of a face-to-part map, for the steps that join whole parts
-//! ([`crate::hidden`], [`crate::layers`], [`crate::tops`]).
+//! The faces, areas and main materials of each part of a face-to-part map, for the steps that
+//! join whole parts ([`crate::hidden`], [`crate::layers`], [`crate::tops`],
+//! [`crate::small_parts`]).
 
 use uniphys_geometry::TriMesh;
 
@@ -33,6 +34,12 @@ impl PartFaces {
         }
     }
 
+    /// The material covering most of each part's area (smallest id on ties), from one material
+    /// id per face (missing ids count as 0).
+    pub(crate) fn main_materials(&self, mesh: &TriMesh, face_material: &[u32]) -> Vec<u32> {
+        main_materials(mesh, &self.faces_of, face_material)
+    }
+
     /// How many parts there are.
     pub(crate) fn count(&self) -> usize {
         self.faces_of.len()
@@ -60,4 +67,29 @@ impl PartFaces {
         }
         relabel_by_first_face(&labels)
     }
+}
+
+/// The material covering most of the area of each set of faces (smallest id on ties), from one
+/// material id per face (missing ids count as 0).
+pub(crate) fn main_materials(
+    mesh: &TriMesh,
+    faces_of: &[Vec<usize>],
+    face_material: &[u32],
+) -> Vec<u32> {
+    faces_of
+        .iter()
+        .map(|fs| {
+            let mut by: std::collections::BTreeMap<u32, f64> = std::collections::BTreeMap::new();
+            for &f in fs {
+                let m = face_material.get(f).copied().unwrap_or(0);
+                *by.entry(m).or_insert(0.0) += mesh.face_area(f);
+            }
+            by.iter()
+                .fold(None, |best: Option<(u32, f64)>, (&m, &a)| match best {
+                    Some((_, b)) if b >= a => best,
+                    _ => Some((m, a)),
+                })
+                .map_or(0, |(m, _)| m)
+        })
+        .collect()
 }

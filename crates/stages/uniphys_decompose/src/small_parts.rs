@@ -15,6 +15,7 @@
 use uniphys_geometry::{Aabb, DVec3, TriMesh};
 
 use crate::candidates::{UnionFind, relabel_by_first_face};
+use crate::part_faces::main_materials;
 use crate::round::is_round;
 
 /// Tuning of [`merge_small_parts`]. Lengths are fractions of the bounds diagonal, areas of the
@@ -96,22 +97,7 @@ pub fn merge_small_parts(
         })
         .collect();
     // Material covering most of each part's area (smallest id on ties).
-    let material: Vec<u32> = faces_of
-        .iter()
-        .map(|fs| {
-            let mut by: std::collections::BTreeMap<u32, f64> = std::collections::BTreeMap::new();
-            for &f in fs {
-                let m = face_material.get(f).copied().unwrap_or(0);
-                *by.entry(m).or_insert(0.0) += mesh.face_area(f);
-            }
-            by.iter()
-                .fold(None, |best: Option<(u32, f64)>, (&m, &a)| match best {
-                    Some((_, b)) if b >= a => best,
-                    _ => Some((m, a)),
-                })
-                .map_or(0, |(m, _)| m)
-        })
-        .collect();
+    let material = main_materials(mesh, &faces_of, face_material);
     let is_small = |p: usize| -> bool {
         let share = area[p] / total_area;
         if share > options.area_fraction_keep {

@@ -1,7 +1,8 @@
 //! The surface things are set on: a broad flat board raised over the object (its underside in
 //! the upper half of the object's height), covering most of its plan, with nothing else above
 //! it (a table's top, a cooktop, a cart's top shelf). With no walled cavity under it, it closes
-//! nothing, so it is no lid: it joins the largest part.
+//! nothing, so it is no lid: it joins the largest part, when both are of one material (every part
+//! of the stage is: a glass top stays apart from its wooden frame).
 //!
 //! Why: such a board is a piece of its own, resting on legs, an apron, a frame or drawers, and
 //! the views show it apart from them. Left a part, it costs the body much of its area and gets
@@ -78,12 +79,14 @@ const WALL_DIRECTIONS: usize = 8;
 const RAY_OFFSET_REL: f64 = 1e-3;
 
 /// Joins every board topping the object with no cavity under it (see the module) to the largest
-/// part, unless that would leave one part. Returns the new labels (numbered by smallest face),
-/// their count and how many parts were joined.
+/// part when both are of one material (`face_material`: one id per face, or empty when
+/// unknown), unless that would leave one part. Returns the new labels (numbered by smallest
+/// face), their count and how many parts were joined.
 #[must_use]
 pub fn merge_tops(
     mesh: &TriMesh,
     face_part: &[u32],
+    face_material: &[u32],
     options: &TopOptions,
 ) -> (Vec<u32>, usize, usize) {
     let parts = PartFaces::of(mesh, face_part);
@@ -92,8 +95,13 @@ pub fn merge_tops(
         return unchanged();
     };
     let object = Object::of(mesh);
+    let material = parts.main_materials(mesh, face_material);
     let boards: Vec<(usize, Board)> = (0..parts.count())
-        .filter(|&p| p != largest && parts.area_m2[p] >= options.area_fraction_min * parts.total_m2)
+        .filter(|&p| {
+            p != largest
+                && material[p] == material[largest]
+                && parts.area_m2[p] >= options.area_fraction_min * parts.total_m2
+        })
         .filter_map(|p| {
             Board::of(mesh, &parts.faces_of[p], parts.area_m2[p], &object, options)
                 .map(|board| (p, board))
@@ -323,12 +331,18 @@ mod tests {
     #[test]
     fn a_tables_top_joins_its_frame_and_its_drawer_stays() {
         let (mesh, labels) = table(false);
-        let (joined, count, tops) = merge_tops(&mesh, &labels, &TopOptions::default());
+        let (joined, count, tops) = merge_tops(&mesh, &labels, &[], &TopOptions::default());
         assert_eq!((count, tops), (2, 1));
         let board = labels.iter().position(|&l| l == 1).expect("board");
         let drawer = labels.iter().position(|&l| l == 2).expect("drawer");
         assert_eq!(joined[board], joined[0]);
         assert_ne!(joined[drawer], joined[0]);
+        // A glass top on a wooden frame stays apart: every part is of one material.
+        let materials: Vec<u32> = labels.iter().map(|&l| u32::from(l == 1)).collect();
+        assert_eq!(
+            merge_tops(&mesh, &labels, &materials, &TopOptions::default()).2,
+            0
+        );
     }
 
     #[test]
@@ -336,7 +350,7 @@ mod tests {
         // The same board on a box walled all round with a floor: under it lies the chest's
         // empty inside.
         let (mesh, labels) = table(true);
-        let (joined, count, tops) = merge_tops(&mesh, &labels, &TopOptions::default());
+        let (joined, count, tops) = merge_tops(&mesh, &labels, &[], &TopOptions::default());
         assert_eq!((count, tops), (3, 0));
         assert_eq!(joined, labels);
     }
@@ -361,13 +375,16 @@ mod tests {
                 .collect(),
             ..mesh.clone()
         };
-        assert_eq!(merge_tops(&lowered, &labels, &TopOptions::default()).2, 0);
+        assert_eq!(
+            merge_tops(&lowered, &labels, &[], &TopOptions::default()).2,
+            0
+        );
         // ... and under a second board as wide, it does not see the sky.
         let cover = TriMesh::cuboid(v(-0.02, -0.02, 0.9), v(1.02, 0.62, 0.92));
         let covered = TriMesh::merge([&mesh, &cover]);
         let mut cover_labels = labels.clone();
         cover_labels.extend(std::iter::repeat_n(3, cover.triangle_count()));
-        let (joined, _, _) = merge_tops(&covered, &cover_labels, &TopOptions::default());
+        let (joined, _, _) = merge_tops(&covered, &cover_labels, &[], &TopOptions::default());
         let board = labels.iter().position(|&l| l == 1).expect("board");
         assert_ne!(joined[board], joined[0]);
     }
