@@ -152,8 +152,8 @@ impl Object {
     }
 }
 
-/// A part shaped and placed as the object's top: a broad flat sheet covering most of the plan,
-/// its top at the object's top.
+/// A part shaped and placed as the object's top: a broad flat sheet raised over the object and
+/// covering most of its plan.
 struct Board {
     samples: Vec<DVec3>,
     bounds: Aabb,
