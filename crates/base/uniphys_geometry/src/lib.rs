@@ -61,7 +61,7 @@ pub use kmeans::{KMeans, kmeans};
 pub use mass::MassProperties;
 pub use mesh::TriMesh;
 pub use mesh_asset::{MeshAsset, MeshPart, SurfaceMaterial, Texture};
-pub use orientation::{box_axes, principal_axes, projection_range};
+pub use orientation::{box_axes, extent_along, principal_axes, projection_range};
 pub use outline::{convex_outline, outline_area};
 pub use parallel::parallel_map;
 pub use plane::{Plane, fit_plane, fit_plane_ransac};

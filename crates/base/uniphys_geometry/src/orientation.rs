@@ -15,6 +15,13 @@ pub fn projection_range(points: &[DVec3], d: DVec3) -> (f64, f64) {
         })
 }
 
+/// Length of the points' projection on a unit direction `d` (0 for none).
+#[must_use]
+pub fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
+    let (lo, hi) = projection_range(points, d);
+    (hi - lo).max(0.0)
+}
+
 /// Principal directions of a point set: unit eigenvectors of the covariance, largest spread
 /// first. Falls back to the coordinate axes for fewer than two points.
 #[must_use]

@@ -2,7 +2,7 @@
 //! (candidate axes x candidate pivots x direction), sweep each one, keep the best by the
 //! sweep's penalties plus simple priors.
 
-use uniphys_geometry::{DVec3, box_axes, parallel_map, projection_range};
+use uniphys_geometry::{DVec3, box_axes, extent_along, parallel_map, projection_range};
 use uniphys_types::{Joint, JointKind};
 use uniphys_verify::{
     ArticulationCandidates, PatchParams, Scene, SweepMetrics, SweepParams, articulation_candidates,
@@ -113,12 +113,6 @@ pub(crate) fn best_joint(scene: &Scene, subject: &Subject<'_>) -> Option<Scored>
         }
     }
     best
-}
-
-/// Length of the points' projection on a unit direction.
-pub(crate) fn extent_along(points: &[DVec3], d: DVec3) -> f64 {
-    let (lo, hi) = projection_range(points, d);
-    (hi - lo).max(0.0)
 }
 
 /// The mean of the points (the origin for none).

@@ -37,14 +37,14 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use uniphys_geometry::{Aabb, DVec3, parallel_map, projection_range};
+use uniphys_geometry::{Aabb, DVec3, extent_along, parallel_map, projection_range};
 use uniphys_types::{Joint, JointKind};
 pub(crate) use uniphys_verify::PartBox;
 use uniphys_verify::{SMALL_PART_FRACTION, Scene, SweepMetrics, SweepParams, sweep};
 
 use crate::articulate::builtin_joint;
 use crate::hinge_range::{closed_side, hinge_range};
-use crate::hypotheses::{extent_along, mean};
+use crate::hypotheses::mean;
 use crate::small_part::small_part_motion;
 use crate::spin::spin_axis;
 use crate::stem::{stem, twist_joint};

@@ -4,11 +4,10 @@
 //! out of the face by 40 % of its width or more is gripped and turned. A push travels half the
 //! part's depth, or a tenth of its width when it is drawn without thickness.
 
-use uniphys_geometry::{DVec3, principal_axes};
+use uniphys_geometry::{DVec3, extent_along, principal_axes};
 use uniphys_types::JointKind;
 use uniphys_verify::{RoundAxis, Scene, across, push_travel_m};
 
-use crate::hypotheses::extent_along;
 use crate::motion_search::{Motion, Mover, PartBox, TOUCH_FRACTION, joint, touching};
 
 /// A small part that is not round but stands out of its parent's face by this fraction of its

@@ -6,12 +6,11 @@
 //! wheel with a tread can be a few degrees off its true axis. The tilt decides whether the part
 //! is round; the axis stays the candidate when the tilt is small.
 
-use uniphys_geometry::{DQuat, DVec3, principal_axes};
+use uniphys_geometry::{DQuat, DVec3, extent_along, principal_axes};
 use uniphys_verify::{
     ON_SURFACE_FRACTION, RoundAxis, Scene, across, centre_about, kept_about_line,
 };
 
-use crate::hypotheses::extent_along;
 use crate::motion_search::PartBox;
 
 /// Share of the turned samples that must be back on the part at every turn.

@@ -7,12 +7,12 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use uniphys_geometry::{DVec3, principal_axes};
+use uniphys_geometry::{DVec3, extent_along, principal_axes};
 use uniphys_types::{Joint, JointKind, JointLimits};
 use uniphys_verify::Scene;
 
 use crate::hinge_range::{folding_way, free_turns};
-use crate::hypotheses::{extent_along, mean};
+use crate::hypotheses::mean;
 use crate::motion_search::{Mover, PartBox};
 use crate::spin::roundness_about;
 
