@@ -18,10 +18,11 @@
 //! hold nearly the whole object is left apart: the object is then the stack itself (a closed
 //! laptop's screen on its base), not a panel of it.
 
-use uniphys_geometry::{DVec3, TriMesh, principal_axes, projection_range, sample_points};
+use uniphys_geometry::{DVec3, TriMesh, projection_range};
 
 use crate::candidates::{UnionFind, relabel_by_first_face};
 use crate::part_faces::PartFaces;
+use crate::sheet_shape::SheetShape;
 
 /// Tuning of [`merge_layers`]. Lengths are shares of the bounds diagonal or of a sheet's length.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,20 +72,15 @@ impl Default for LayerOptions {
     }
 }
 
-/// A thin part: its principal frame (the normal last), its length, its faces' corners and
-/// samples.
+/// A broad thin part and its shape.
 struct Sheet {
     part: usize,
     area_m2: f64,
-    /// Its extent along its first principal axis, metres.
-    length_m: f64,
-    axes: [DVec3; 3],
-    vertices: Vec<DVec3>,
-    samples: Vec<DVec3>,
+    shape: SheetShape,
 }
 
 impl Sheet {
-    /// `None` unless the part is thin.
+    /// `None` unless the part is a broad thin sheet.
     fn of(
         mesh: &TriMesh,
         part: usize,
@@ -92,26 +88,15 @@ impl Sheet {
         area_m2: f64,
         options: &LayerOptions,
     ) -> Option<Self> {
-        let samples = sample_points(&mesh.submesh(faces), options.samples, part as u64);
-        if samples.len() < 3 {
-            return None;
-        }
-        let axes = principal_axes(&samples);
-        let vertices: Vec<DVec3> = faces.iter().flat_map(|&f| mesh.corners(f)).collect();
-        let length = extent(&vertices, axes[0]);
-        let width = extent(&vertices, axes[1]);
-        let thickness = extent(&vertices, axes[2]);
-        let broad_sheet = length > 0.0
-            && thickness <= options.thin_ratio_max * length
-            && width >= options.broad_ratio_min * length;
-        broad_sheet.then_some(Self {
-            part,
-            area_m2,
-            length_m: length,
-            axes,
-            vertices,
-            samples,
-        })
+        let corners: Vec<DVec3> = faces.iter().flat_map(|&f| mesh.corners(f)).collect();
+        let shape = SheetShape::of(&mesh.submesh(faces), corners, options.samples, part as u64)?;
+        shape
+            .is_broad_sheet(options.thin_ratio_max, options.broad_ratio_min)
+            .then_some(Self {
+                part,
+                area_m2,
+                shape,
+            })
     }
 }
 
@@ -119,9 +104,9 @@ impl Sheet {
 /// least half of `other`'s thickness beyond that face. `None` for a layer set into the sheet (a
 /// panel inset into a door's face).
 fn side_of(other: &Sheet, sheet: &Sheet) -> Option<bool> {
-    let n = sheet.axes[2];
-    let (lo, hi) = projection_range(&sheet.vertices, n);
-    let (other_lo, other_hi) = projection_range(&other.vertices, n);
+    let n = sheet.shape.axes[2];
+    let (lo, hi) = projection_range(&sheet.shape.corners, n);
+    let (other_lo, other_hi) = projection_range(&other.shape.corners, n);
     let half_m = 0.5 * (other_hi - other_lo);
     if other_hi - other_lo.max(hi) >= half_m {
         Some(true)
@@ -130,11 +115,6 @@ fn side_of(other: &Sheet, sheet: &Sheet) -> Option<bool> {
     } else {
         None
     }
-}
-
-fn extent(points: &[DVec3], d: DVec3) -> f64 {
-    let (lo, hi) = projection_range(points, d);
-    hi - lo
 }
 
 /// How two sheets lie against each other, in the frame of the first.
@@ -149,9 +129,9 @@ struct Stack {
 
 impl Stack {
     fn of(a: &Sheet, b: &Sheet, cells: usize) -> Self {
-        let n = a.axes[2];
-        let (a_lo, a_hi) = projection_range(&a.vertices, n);
-        let (b_lo, b_hi) = projection_range(&b.vertices, n);
+        let n = a.shape.axes[2];
+        let (a_lo, a_hi) = projection_range(&a.shape.corners, n);
+        let (b_lo, b_hi) = projection_range(&b.shape.corners, n);
         let gap_m = (b_lo - a_hi).max(a_lo - b_hi).max(0.0);
         let thickness_m = a_hi.max(b_hi) - a_lo.min(b_lo);
         Self {
@@ -165,10 +145,10 @@ impl Stack {
 /// Both sheets' samples seen along the first one's normal on one grid over their joint
 /// outline: the share of the larger set of covered cells that both cover.
 fn covering(a: &Sheet, b: &Sheet, cells: usize) -> f64 {
-    let [u, v, _] = a.axes;
+    let [u, v, _] = a.shape.axes;
     let span = |d: DVec3| {
-        let (a_lo, a_hi) = projection_range(&a.vertices, d);
-        let (b_lo, b_hi) = projection_range(&b.vertices, d);
+        let (a_lo, a_hi) = projection_range(&a.shape.corners, d);
+        let (b_lo, b_hi) = projection_range(&b.shape.corners, d);
         (a_lo.min(b_lo), a_hi.max(b_hi))
     };
     let ((u_lo, u_hi), (v_lo, v_hi)) = (span(u), span(v));
@@ -178,7 +158,7 @@ fn covering(a: &Sheet, b: &Sheet, cells: usize) -> f64 {
     let cell_of = |p: &DVec3| index(p.dot(u), u_lo, u_hi) * cells + index(p.dot(v), v_lo, v_hi);
     let grid = |sheet: &Sheet| {
         let mut covered = vec![false; cells * cells];
-        for p in &sheet.samples {
+        for p in &sheet.shape.samples {
             covered[cell_of(p)] = true;
         }
         covered
@@ -225,11 +205,11 @@ pub fn merge_layers(
     for (i, a) in sheets.iter().enumerate() {
         for (j, b) in sheets.iter().enumerate().skip(i + 1) {
             if material[a.part] != material[b.part]
-                || a.axes[2].dot(b.axes[2]).abs() < options.parallel_cos_min
+                || a.shape.axes[2].dot(b.shape.axes[2]).abs() < options.parallel_cos_min
             {
                 continue;
             }
-            let length_m = a.length_m.max(b.length_m);
+            let length_m = a.shape.extents_m[0].max(b.shape.extents_m[0]);
             let stack = Stack::of(a, b, options.grid_cells);
             if stack.gap_m > options.gap_rel_max * diagonal_m
                 || stack.thickness_m > options.stack_ratio_max * length_m

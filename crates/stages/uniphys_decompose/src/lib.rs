@@ -52,6 +52,7 @@ pub mod round;
 pub mod score;
 pub mod segment;
 pub mod select;
+mod sheet_shape;
 pub mod small_parts;
 pub mod split;
 pub mod tops;

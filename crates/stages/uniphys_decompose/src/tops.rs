@@ -16,11 +16,10 @@
 //! It joins the base when other parts remain; when that would leave one part, it stays. A
 //! chest whose inside a drawer or a tray fills just under its lid reads as a table too.
 
-use uniphys_geometry::{
-    Aabb, DVec3, RayMesh, TriMesh, principal_axes, projection_range, sample_points,
-};
+use uniphys_geometry::{Aabb, DVec3, RayMesh, TriMesh};
 
 use crate::part_faces::PartFaces;
+use crate::sheet_shape::SheetShape;
 
 /// Tuning of [`merge_tops`]. Shares are of the object's height, plan or diagonal as named.
 #[derive(Debug, Clone, PartialEq)]
@@ -181,26 +180,16 @@ impl Board {
             return None;
         }
         let sheet = mesh.submesh(faces);
-        let samples = sample_points(&sheet, SAMPLES, faces.len() as u64);
-        if samples.len() < 3 {
-            return None;
-        }
-        let axes = principal_axes(&samples);
-        let extent = |d: DVec3| {
-            let (lo, hi) = projection_range(&corners, d);
-            hi - lo
-        };
-        let (length, width, thickness) = (extent(axes[0]), extent(axes[1]), extent(axes[2]));
-        let is_board = length > 0.0
-            && thickness <= options.thin_ratio_max * length
-            && axes[2].z.abs() >= options.level_cos_min
-            && width >= options.broad_ratio_min * length
+        let shape = SheetShape::of(&sheet, corners, SAMPLES, faces.len() as u64)?;
+        let [length, width, _] = shape.extents_m;
+        let is_board = shape.is_broad_sheet(options.thin_ratio_max, options.broad_ratio_min)
+            && shape.axes[2].z.abs() >= options.level_cos_min
             && area_m2 >= options.fill_min * length * width;
         if !is_board {
             return None;
         }
         Some(Self {
-            samples,
+            samples: shape.samples,
             bounds,
             rays: RayMesh::new(&sheet)?,
         })
